@@ -1,0 +1,5 @@
+"""``python -m domes`` runs the command-line interface."""
+
+from domes.cli import main
+
+raise SystemExit(main())
