@@ -5,7 +5,9 @@ Each stage's subpackage owns its subcommand in a ``cli`` module with a
 the chosen one. Errors in the input exit with status 2 and a message on
 stderr; Ctrl-C exits with status 130 and no traceback.
 
->>> main(["synthesis", "--dof", "1", "--loops", "2"])  # doctest: +SKIP
+>>> main(["chains", "--links", "6", "--dof", "1", "--count"])
+2
+0
 """
 
 from __future__ import annotations
