@@ -24,6 +24,7 @@ from domes.errors import DomesError
 SUBCOMMAND_MODULES = (
     "domes.synthesis.cli",
     "domes.chains.cli",
+    "domes.regeneration.cli",
 )
 
 

@@ -247,6 +247,18 @@ class Chain:
             return "partial"  # a proper sub-chain with a loop and fewer DOF
         return "total"
 
+    @property
+    def common_name(self) -> str | None:
+        """``four-bar``, ``Watt`` or ``Stephenson`` for the one-DOF chains of 4 and 6 links (Fig. 3-6)."""
+        if self.dof != 1 or self.cut_links or self.is_degenerate:
+            return None
+        if self.n == 4:
+            return "four-bar"
+        if self.n == 6:
+            ternary = [v for v, d in enumerate(self.degrees) if d == 3]
+            return "Watt" if tuple(sorted(ternary)) in self.edges else "Stephenson"
+        return None
+
     @cached_property
     def structural_number(self) -> int | None:
         """``K`` of a zero-DOF chain (Table 3-4); ``None`` for other chains."""

@@ -28,6 +28,7 @@ from typing import Iterable, Mapping
 import networkx as nx
 import pynauty
 
+from domes.chains.canon import Automorphisms
 from domes.errors import DomesError
 
 Edge = tuple[int, int]
@@ -42,6 +43,8 @@ JOINT_TYPES: dict[str, str] = {
     "S": "spring",
     "H": "hydraulic cylinder",
     "F": "force",
+    "Fp": "driving force",
+    "Fr": "resisting force",
 }
 
 
@@ -122,6 +125,33 @@ class LabelledChain:
     def _types(self) -> dict[Edge, str]:
         return dict(zip(self.edges, self.joint_types))
 
+    @cached_property
+    def neighbours(self) -> tuple[tuple[int, ...], ...]:
+        """The links jointed to each link."""
+        adjacency: list[list[int]] = [[] for _ in range(self.n)]
+        for u, v in self.edges:
+            adjacency[u].append(v)
+            adjacency[v].append(u)
+        return tuple(tuple(a) for a in adjacency)
+
+    @property
+    def degrees(self) -> tuple[int, ...]:
+        """Joints on each link."""
+        return tuple(len(a) for a in self.neighbours)
+
+    def automorphisms(self) -> Automorphisms:
+        """Label-preserving automorphisms (roles and joint types kept), acting on the links."""
+        graph, _ = self._coloured()
+        generators, mantissa, exponent, orbits, _ = pynauty.autgrp(graph)
+        first: dict[int, int] = {}
+        for v, o in enumerate(orbits[: self.n]):
+            first.setdefault(o, v)
+        return Automorphisms(
+            round(mantissa * 10**exponent),
+            tuple(tuple(g[: self.n]) for g in generators),
+            tuple(first[o] for o in orbits[: self.n]),
+        )
+
     def links_with_role(self, role: str) -> list[int]:
         """Links that carry ``role``."""
         return [v for v, r in enumerate(self.roles) if role in r]
@@ -161,6 +191,11 @@ class LabelledChain:
 
         Named loops are not part of the identity.
         """
+        graph, key = self._coloured()
+        return key, pynauty.certificate(graph)
+
+    def _coloured(self) -> tuple[pynauty.Graph, tuple]:
+        """The nauty graph: links coloured by role set, joints as vertices coloured by type."""
         colour_of: dict[tuple, list[int]] = {}
         for v, r in enumerate(self.roles):
             colour_of.setdefault(("link", tuple(sorted(r))), []).append(v)
@@ -175,7 +210,7 @@ class LabelledChain:
             adjacency_dict=adjacency,
             vertex_coloring=[set(colour_of[k]) for k in keys],
         )
-        return tuple((k, len(colour_of[k])) for k in keys), pynauty.certificate(graph)
+        return graph, tuple((k, len(colour_of[k])) for k in keys)
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, LabelledChain) and self.certificate == other.certificate

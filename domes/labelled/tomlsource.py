@@ -1,0 +1,71 @@
+"""Reading knowledge files written in TOML, with errors that name the file and line.
+
+``tomllib`` reports syntax errors with a line but gives no positions for
+values; :meth:`TomlSource.line_of` finds the line of a key or value so that
+a semantic error can point at it too.
+
+>>> src = TomlSource.parse('name = "x"\\nlinks = 6\\n', "demo.toml")
+>>> src.data["links"], src.line_of("links")
+(6, 2)
+"""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from domes.errors import DomesError
+
+
+@dataclass(frozen=True)
+class TomlSource:
+    """Parsed TOML plus its text, for locating errors."""
+
+    path: str
+    text: str
+    data: dict[str, Any]
+
+    @classmethod
+    def parse(cls, text: str, path: str = "<text>") -> "TomlSource":
+        try:
+            data = tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise DomesError(f"{path}: TOML syntax error: {exc}") from None
+        return cls(path, text, data)
+
+    @classmethod
+    def read(cls, path: str | Path) -> "TomlSource":
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise DomesError(f"cannot read {path}: {exc.strerror}") from None
+        except UnicodeDecodeError:
+            raise DomesError(f"{path}: not UTF-8 text") from None
+        return cls.parse(text, str(path))
+
+    def line_of(self, needle: str, after: int = 0) -> int | None:
+        """The first line (1-based) after line ``after`` that mentions ``needle`` as a key or quoted value."""
+        pattern = re.compile(rf'(^|[\s\[{{,]){re.escape(needle)}\s*=|"{re.escape(needle)}"|\'{re.escape(needle)}\'')
+        for number, line in enumerate(self.text.splitlines(), 1):
+            if number > after and pattern.search(line.split("#", 1)[0] if '"' not in line else line):
+                return number
+        return None
+
+    def table_line(self, name: str, index: int) -> int:
+        """The line of the ``index``-th ``[[name]]`` array-of-tables header (0 if absent)."""
+        count = -1
+        for number, line in enumerate(self.text.splitlines(), 1):
+            if line.strip() == f"[[{name}]]":
+                count += 1
+                if count == index:
+                    return number
+        return 0
+
+    def error(self, message: str, line: int | None = None) -> DomesError:
+        """A DomesError that names this file and, when known, the line."""
+        where = f"{self.path}:{line}" if line else self.path
+        return DomesError(f"{where}: {message}")
