@@ -7,14 +7,20 @@ time; after each step duplicates are removed by the labelled chain's nauty
 certificate, which is exact and complete (every labelling with one joint
 less is isomorphic to a kept one).
 
-Loop limits (e.g. at most one gear pair in any loop, seed 002 §7-2 and
-digest 4.5 criterion iii) are checked on every simple cycle of the chain.
+Loop limits (e.g. "number of gear pairs should not be more than 1 for any
+independent loop", seed 002 §7-2, digest 4.5 criterion iii) hold when some
+cycle basis consists of loops within the limits, i.e. the simple cycles
+within the limits span the cycle space (their GF(2) rank is ``L``). No one
+basis is invariant under isomorphism; "every simple cycle" would be too
+strict, since in a chain without cut links any two joints share a cycle.
 
 >>> from domes.chains import chains
 >>> len(label_joints(chains(links=4, dof=1), {"P": 1}))
 1
 >>> len(label_joints(chains(links=4, dof=1), {"P": 2}))
 2
+>>> len(label_joints(chains(links=6, dof=1), {"G": 2}, per_loop_max={"G": 1}))
+11
 """
 
 from __future__ import annotations
@@ -28,15 +34,32 @@ from domes.errors import DomesError
 from domes.labelled.graph import JOINT_TYPES, LabelledChain
 
 
-def _cycles(chain: LabelledChain) -> list[frozenset[int]]:
-    """Every simple cycle, as the set of joint indices on it."""
+def _cycles(chain: LabelledChain) -> list[tuple[int, frozenset[int]]]:
+    """Every simple cycle, as a bit mask and as the set of its joint indices."""
     index = {e: i for i, e in enumerate(chain.edges)}
     graph = nx.Graph(chain.edges)
     out = []
     for cycle in nx.simple_cycles(graph):
         ring = zip(cycle, cycle[1:] + cycle[:1])
-        out.append(frozenset(index[(min(u, v), max(u, v))] for u, v in ring))
+        joints = frozenset(index[(min(u, v), max(u, v))] for u, v in ring)
+        out.append((sum(1 << j for j in joints), joints))
     return out
+
+
+def _rank(masks: Iterable[int]) -> int:
+    """Rank over GF(2) of joint-set bit masks."""
+    basis: list[int] = []
+    for m in masks:
+        for b in basis:
+            m = min(m, m ^ b)
+        if m:
+            basis.append(m)
+    return len(basis)
+
+
+def _within_limits(cycles: list[tuple[int, frozenset[int]]], types: tuple[str, ...], limits: Mapping[str, int], loops: int) -> bool:
+    ok = (mask for mask, joints in cycles if all(sum(types[j] == t for j in joints) <= m for t, m in limits.items()))
+    return _rank(ok) == loops
 
 
 def label_joints(
@@ -64,6 +87,7 @@ def label_joints(
         if sum(counts.values()) > len(start.edges):
             continue
         cycles = _cycles(start) if limits else []
+        loops = len(start.edges) - start.n + 1
         layer = [start]
         for t, k in sorted(counts.items()):
             for _ in range(k):
@@ -74,7 +98,7 @@ def label_joints(
                         if types[i] != "R":
                             continue
                         new_types = types[:i] + (t,) + types[i + 1 :]
-                        if limits and any(sum(new_types[j] == lt for j in c) > m for c in cycles for lt, m in limits.items()):
+                        if limits and not _within_limits(cycles, new_types, limits, loops):
                             continue
                         child = LabelledChain.build(labelled.n, labelled.edges, new_types, dict(enumerate(labelled.roles)))
                         seen.setdefault(child.certificate, child)

@@ -61,9 +61,13 @@ def print_regeneration(result: Regeneration, new_only: bool, out=sys.stdout) -> 
     if scene.book_note:
         out.write(f"  book: {scene.book_note}\n")
     existing = [c for c in result.candidates if c.existing]
-    out.write(f"\n{len(result.candidates)} candidates, {len(existing)} existing, {len(result.candidates) - len(existing)} new\n")
     atlas = ChainGenerator().chains(scene.links, scene.dof, scene.include_fractionated)
     names = {i: f" ({Chain(n, e).common_name})" for i, (n, e) in enumerate(atlas, 1) if Chain(n, e).common_name}
+    per_chain = {}
+    for c in result.candidates:
+        per_chain[c.chain_index] = per_chain.get(c.chain_index, 0) + 1
+    split = ", ".join(f"chain {i}{names.get(i, '')}: {k}" for i, k in sorted(per_chain.items()))
+    out.write(f"\n{len(result.candidates)} candidates ({split}), {len(existing)} existing, {len(result.candidates) - len(existing)} new\n")
     for c in result.candidates:
         if new_only and c.existing:
             continue

@@ -193,3 +193,23 @@ def test_json_record_fields():
     record = chains(links=6, dof=1)[0].as_dict()
     assert {"links", "joints", "loops", "assortment", "contracted_graph", "dof_type",
             "automorphism_group_order", "link_orbits", "rigid_subchain", "graph6"} <= set(record)
+
+
+def test_similarity_matrices_of_the_watt_chain_a6():
+    # digest A6 (§3-3-III.1): for the Watt chain numbered 1-2 adjacent ternaries,
+    # 1-4-3-2, 1-5-6-2, A² equals the printed B² and C² is the orbit partition.
+    from domes.chains.similarity import similarity
+
+    printed_b2 = [
+        [3, 0, 2, 0, 0, 2],
+        [0, 3, 0, 2, 2, 0],
+        [2, 0, 2, 0, 0, 1],
+        [0, 2, 0, 2, 1, 0],
+        [0, 2, 0, 1, 2, 0],
+        [2, 0, 1, 0, 0, 2],
+    ]
+    printed_c2 = [[1, 1, 0, 0, 0, 0]] * 2 + [[0, 0, 1, 1, 1, 1]] * 4
+    watt = Chain.from_networkx(nx.Graph([(1, 2), (1, 4), (4, 3), (3, 2), (1, 5), (5, 6), (6, 2)]))
+    s = similarity(watt)
+    assert s.position.tolist() == printed_b2
+    assert s.similar.tolist() == printed_c2
