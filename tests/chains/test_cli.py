@@ -92,3 +92,33 @@ def test_synthesis_cli(capsys):
     status, out, _ = run(capsys, "synthesis", "--dof", "1", "--loops", "3", "--format", "json")
     data = json.loads(out)
     assert status == 0 and (data["links"], data["joints"]) == (8, 10) and len(data["assortments"]) == 3
+
+
+def test_ctrl_c_stops_cleanly():
+    # A long run (the 12-link atlas) interrupted by SIGINT exits 130 with a one-line message.
+    import signal
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "domes", "chains", "--links", "12", "--dof", "1", "--count", "--progress"],
+        cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    first = proc.stderr.readline()  # the generator is at work once it reports progress
+    assert first.startswith("...")
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and "Traceback" not in err and out == ""
+
+
+@pytest.mark.parametrize("answer, built", [("n", False), ("yes", True)])
+def test_large_atlas_confirmation_on_a_terminal(monkeypatch, answer, built):
+    from domes.chains import cli
+    from domes.errors import DomesError
+
+    monkeypatch.setattr(sys.stdin, "isatty", lambda: True)
+    monkeypatch.setattr("builtins.input", lambda prompt: answer)
+    if built:
+        cli._confirm_large(14, 1, False)  # returns: go ahead
+    else:
+        with pytest.raises(DomesError, match="not built"):
+            cli._confirm_large(14, 1, False)
