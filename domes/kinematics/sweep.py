@@ -140,6 +140,23 @@ def grid(start: float, stop: float, step: float) -> list[float]:
     return pts
 
 
+def solve(mech: Mechanism, q: float | None = None, outputs=None, order: int = 0, method: str = "assur",
+          accuracy=None, joint: str | None = None, others: dict | None = None) -> Step:
+    """One configuration at input ``q`` (default: the drawn pose), reached from the drawn pose by continuation.
+
+    Raises :class:`~domes.errors.DomesError` naming the group, joints and
+    input when the input cannot be reached or the derivatives are undetermined.
+    """
+    kin = Kinematics(mech, outputs, order, method, accuracy)
+    cont = Continuation(kin, joint, others)
+    q = cont.q0 if q is None else q
+    state = cont.start(q)
+    try:
+        return kin.at(cont.inputs(q), state)
+    except SolveFailure as exc:
+        raise DomesError(f"{exc} (input {cont.fmt(q)})") from None
+
+
 def sweep(mech: Mechanism, start: float, stop: float, step: float | None = None, outputs=None, order: int = 0,
           method: str = "assur", accuracy=None, joint: str | None = None, others: dict | None = None) -> Sweep:
     """Sweep the driven ``joint`` (default: the first input) from ``start`` to ``stop``.
