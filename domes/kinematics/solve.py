@@ -18,6 +18,7 @@ from its loop equations (seed 000, eqs. 4–5 with the corrected ``J̇φ̇``):
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 
@@ -75,6 +76,10 @@ def accuracy(spec=None, tol=None, step=None) -> Accuracy:
         spec = Accuracy(f"{spec.name}*", tol if tol is not None else spec.tol, step if step is not None else spec.step,
                         min(spec.locate, tol) if tol is not None else spec.locate, spec.refine)
     return spec
+
+
+#: The largest change of a rotation (rad) or of a slide (fraction of the size) accepted in one continuation step.
+JUMP = 0.75
 
 
 class SolveFailure(DomesError):
@@ -185,8 +190,16 @@ class Kinematics:
                 link, at = mech.point(o.target)
                 self._output_paths[o.target] = s.point_path(link, at, solved)
         self.inputs = {i.joint: i for i in mech.inputs}
+        #: Groups solved so far (for showing that a query solves only what it needs).
+        self.groups_solved = 0
 
     # -- bookkeeping ---------------------------------------------------------------------
+
+    def with_accuracy(self, spec) -> "Kinematics":
+        """The same query with another accuracy."""
+        other = copy.copy(self)
+        other.accuracy = accuracy(spec)
+        return other
 
     @property
     def equations(self) -> int:
@@ -217,6 +230,7 @@ class Kinematics:
         for g in self.groups:
             if not g.unknowns:
                 continue
+            before = [values[v] for v in g.unknowns]
             try:
                 if g.index in self.plans:
                     self._dyad(g, values)
@@ -226,7 +240,20 @@ class Kinematics:
                 raise SolveFailure(str(exc), "limit", g) from None
             except Undetermined as exc:
                 raise SolveFailure(str(exc), "undetermined", g) from None
+            if guess is not None:
+                self._check_jump(g, before, values)
+        self.groups_solved += sum(1 for g in self.groups if g.unknowns)
         return values
+
+    def _check_jump(self, g, before, values):
+        """Continuation may not jump: a rotation changing by more than :data:`JUMP` rad (or a slide by
+        ``JUMP·size``) in one step means a change of assembly mode or a discontinuity."""
+        for v, old in zip(g.unknowns, before):
+            change = abs(values[v] - old) / (1.0 if v.startswith("rot:") else self.size)
+            if change > JUMP:
+                what = f"{math.degrees(change):.1f}°" if v.startswith("rot:") else f"{change:.3g} of the size"
+                raise SolveFailure(f"{g.label}: {v} jumped by {what} in one step at joints {', '.join(g.joints)} "
+                                   "(a discontinuity or change of assembly mode)", "jump", g)
 
     def _dyad(self, g, values):
         plan = self.plans[g.index]
@@ -249,7 +276,6 @@ class Kinematics:
     def _newton(self, g, values, maxit=60):
         tol = max(self.accuracy.tol, 1e-16)
         x = np.array([values[v] for v in g.unknowns], float)
-        start = x.copy()
         best = math.inf
         stall = 0
         for _ in range(maxit):
@@ -272,10 +298,6 @@ class Kinematics:
             x = x + dx
         else:
             raise SolveFailure(f"{g.label}: Newton's method did not converge (closure {res:.3g} of size)", "newton", g)
-        jump = max((abs(x[i] - start[i]) for i, v in enumerate(g.unknowns) if v.startswith("rot:")), default=0.0)
-        if jump > 0.75:
-            raise SolveFailure(f"{g.label}: Newton's method jumped {math.degrees(jump):.1f}° (possible change of "
-                               "assembly mode)", "newton", g)
 
     def _assemble(self, g, values, rates=None):
         """``A`` (2L), ``J`` (2L×U) and, with ``rates``, the right-hand sides' parts."""

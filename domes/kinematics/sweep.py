@@ -25,10 +25,10 @@ import numpy as np
 
 from domes.errors import DomesError
 from domes.kinematics.model import Mechanism
-from domes.kinematics.solve import Accuracy, Kinematics, SolveFailure, Step
+from domes.kinematics.solve import PRESETS, Accuracy, Kinematics, SolveFailure, Step
 
-#: A group whose scaled Jacobian has a larger condition number is singular.
-SINGULAR_CONDITION = 1e10
+#: A group whose scaled Jacobian has a larger condition number is singular (to double precision).
+SINGULAR_CONDITION = 1e7
 #: Condition numbers above this, at a local peak, are refined to look for a singular point.
 WATCH_CONDITION = 1e2
 
@@ -39,7 +39,8 @@ class DeadPoint:
 
     ``kind``: ``limit`` (the mechanism cannot be assembled beyond it),
     ``singular`` (the Jacobian is singular there; the sweep went on in the same
-    assembly mode), ``undetermined`` (coincident joints or parallel slides).
+    assembly mode), ``undetermined`` (coincident joints or parallel slides),
+    ``discontinuity`` (the solution would jump: a bifurcation).
     ``input`` is located within ``within``.
     """
 
@@ -187,8 +188,7 @@ def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None) 
             break
         qa = q
         steps.append(_step(kin, cont, q, state, dead))
-    if kin.accuracy.refine:
-        _refine_peaks(kin, cont, steps, dead)
+    _refine_peaks(kin, cont, steps, dead)
     dead.sort(key=lambda d: (d.input - qs[0]) * (1 if stop >= start else -1))
     reached = [s.inputs[cont.joint] for s in steps]
     reach = (min(reached), max(reached)) if reached else (qs[0], qs[0])
@@ -217,10 +217,11 @@ def _nan(state):
 
 def _dead_point(kin, cont, st: _Stuck) -> DeadPoint:
     f = st.failure
-    kind = {"limit": "limit", "undetermined": "undetermined"}.get(f.kind, "limit")
+    kind = {"undetermined": "undetermined", "jump": "discontinuity"}.get(f.kind, "limit")
     q = 0.5 * (st.good + st.bad)
-    msg = (f"{f}; the input cannot pass {cont.fmt(q)} (last solved {cont.fmt(st.good)}), "
-           f"{'a limit (dead) position' if kind == 'limit' else 'the pose is undetermined there'}")
+    what = {"limit": "a limit (dead) position", "undetermined": "the pose is undetermined there",
+            "discontinuity": "the pose would jump there (a bifurcation)"}[kind]
+    msg = f"{f}; the input cannot pass {cont.fmt(q)} (last solved {cont.fmt(st.good)}): {what}"
     return DeadPoint(q, abs(st.bad - st.good) / 2, kind, f.group.label, f.group.joints, msg)
 
 
@@ -230,36 +231,49 @@ def _inverse_condition(kin, cont, q, state):
 
 
 def _refine_peaks(kin, cont, steps, dead):
+    """Golden-section search for the singular point under each peak of the condition number.
+
+    Near a simple singularity ``1/cond`` falls linearly to zero; the peak is
+    reported when the refined minimum is consistent with a zero inside the
+    final bracket (``1/cond ≤ 10·slope·bracket``, the slope read at the
+    neighbouring steps) or ``cond`` exceeds :data:`SINGULAR_CONDITION`.
+    """
     conds = [s.condition for s in steps]
-    known = {d.input for d in dead}
+    known = [d.input for d in dead]
+    fine = kin.with_accuracy(PRESETS["exact"])  # positions to rounding: Newton's tolerance would blur the peak
     for k in range(1, len(steps) - 1):
         c = conds[k]
         if not (c >= conds[k - 1] and c >= conds[k + 1] and c > WATCH_CONDITION) or not math.isfinite(c):
             continue
         a, b = steps[k - 1].inputs[cont.joint], steps[k + 1].inputs[cont.joint]
+        slope = max(1 / conds[k - 1], 1 / conds[k + 1]) / abs(b - a) * 2
         state = steps[k].state
         g = (math.sqrt(5) - 1) / 2
         x1, x2 = b - g * (b - a), a + g * (b - a)
         try:
-            f1, f2 = _inverse_condition(kin, cont, x1, state), _inverse_condition(kin, cont, x2, state)
+            f1, f2 = _inverse_condition(fine, cont, x1, state), _inverse_condition(fine, cont, x2, state)
             while abs(b - a) > cont.locate:
                 if f1 < f2:
                     b, x2, f2 = x2, x1, f1
                     x1 = b - g * (b - a)
-                    f1 = _inverse_condition(kin, cont, x1, state)
+                    f1 = _inverse_condition(fine, cont, x1, state)
                 else:
                     a, x1, f1 = x1, x2, f2
                     x2 = a + g * (b - a)
-                    f2 = _inverse_condition(kin, cont, x2, state)
+                    f2 = _inverse_condition(fine, cont, x2, state)
         except SolveFailure:
             continue
         q = 0.5 * (a + b)
-        if min(f1, f2) * SINGULAR_CONDITION < 1 and not any(abs(q - d) <= 2 * cont.locate for d in known):
+        fmin = min(f1, f2)
+        singular = fmin * SINGULAR_CONDITION < 1 or fmin <= 10 * slope * abs(b - a)
+        if singular and not any(abs(q - d) <= 2 * cont.locate + 1e-12 for d in known):
             group = _worst_group(kin, cont, q, state)
-            dead.append(DeadPoint(q, abs(b - a) / 2, "singular", group.label, group.joints,
+            # A singular point is located no better than √eps (the pose there is a double root).
+            within = max(abs(b - a) / 2, fmin / slope, 4 * math.sqrt(2.2e-16) * (1.0 if cont.angular else kin.size))
+            dead.append(DeadPoint(q, within, "singular", group.label, group.joints,
                                   f"{group.label}: Jacobian singular at input {cont.fmt(q)} (joints "
-                                  f"{', '.join(group.joints)}); a branch or change point: the sweep stays in the "
-                                  "drawn assembly mode"))
+                                  f"{', '.join(group.joints)}, condition {1 / fmin:.3g}); a branch or change point: "
+                                  "the sweep stays in the drawn assembly mode"))
 
 
 def _worst_group(kin, cont, q, state):
