@@ -78,6 +78,10 @@ def accuracy(spec=None, tol=None, step=None) -> Accuracy:
     return spec
 
 
+#: Beyond this condition number of a group's scaled Jacobian its pose is known only to about
+#: √eps and its velocities not at all: derivatives are refused (the pose is a singular point).
+SINGULAR_CONDITION = 1e7
+
 #: The largest change of a rotation (rad) or of a slide (fraction of the size) accepted in one continuation step.
 JUMP = 0.75
 
@@ -340,7 +344,7 @@ class Kinematics:
             condition = max(condition, cond if math.isfinite(cond) else math.inf)
             if order == 0:
                 continue
-            if not math.isfinite(cond) or cond > 1e14:
+            if not math.isfinite(cond) or cond > SINGULAR_CONDITION:
                 raise SolveFailure(f"{g.label}: Jacobian singular (condition {cond:.3g}); velocities are undetermined "
                                    f"at joints {', '.join(g.joints)}", "singular", g)
             rhs = np.zeros(n)

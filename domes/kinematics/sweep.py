@@ -25,10 +25,8 @@ import numpy as np
 
 from domes.errors import DomesError
 from domes.kinematics.model import Mechanism
-from domes.kinematics.solve import PRESETS, Accuracy, Kinematics, SolveFailure, Step
+from domes.kinematics.solve import PRESETS, SINGULAR_CONDITION, Accuracy, Kinematics, SolveFailure, Step
 
-#: A group whose scaled Jacobian has a larger condition number is singular (to double precision).
-SINGULAR_CONDITION = 1e7
 #: Condition numbers above this, at a local peak, are refined to look for a singular point.
 WATCH_CONDITION = 1e2
 
