@@ -29,7 +29,7 @@ angle of ``k``; for an R joint between two moving links ``a, b`` the angle of
 ...             Joint("D", "R", ("rocker", "frame"), (3.0, 0.0))],
 ...     inputs=[Input("A")])
 >>> m.dof, m.loops, m.size
-(1, 1, 3.5)
+(1, 1, 4.272001872658765)
 """
 
 from __future__ import annotations

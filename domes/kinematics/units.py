@@ -50,7 +50,7 @@ def rp2_unit(e, phi, s, phid, sd, lib=math):
     Corrected Table 1: the first column of ``∇J̇`` carries ``ṡ``.
 
     >>> rp2_unit(0.0, 0.0, 3.0, 1.0, 2.0)[2]
-    ((-0.0, 5.0), (-0.0, 1.0))
+    ((-3.0, 2.0), (-0.0, 1.0))
     """
     c, sn = lib.cos(phi), lib.sin(phi)
     A = (e * sn + s * c, -e * c + s * sn)
