@@ -304,7 +304,7 @@ class Kinematics:
             for v, val in zip(g.unknowns, x):
                 values[v] = float(val)
             size = float(np.max(np.abs(dx * scale)))
-            if size <= tol or (size <= 1e-12 and size >= 0.5 * last):
+            if size <= tol or (size <= 1e-9 and size >= 0.9 * last):  # converged, or stalled at rounding
                 return
             last = size
         raise SolveFailure(f"{g.label}: Newton's method did not converge (last correction {size:.3g})", "newton", g)

@@ -199,7 +199,8 @@ def _step(kin, cont, q, state, dead) -> Step:
     try:
         return kin.at(cont.inputs(q), state)
     except SolveFailure as f:  # singular Jacobian exactly at a grid point: positions only
-        dead.append(DeadPoint(q, 0.0, "singular", f.group.label, f.group.joints,
+        dead.append(DeadPoint(q, 4 * math.sqrt(2.2e-16) * (1.0 if cont.angular else kin.size), "singular",
+                              f.group.label, f.group.joints,
                               f"{f} (input {cont.fmt(q)}); derivatives set to NaN"))
         step = kin.at(cont.inputs(q), state, order=0)
         values = dict(step.values)
@@ -223,9 +224,11 @@ def _dead_point(kin, cont, st: _Stuck) -> DeadPoint:
     return DeadPoint(q, abs(st.bad - st.good) / 2, kind, f.group.label, f.group.joints, msg)
 
 
-def _inverse_condition(kin, cont, q, state):
-    values = kin.positions(cont.inputs(q), state)
-    return 1.0 / kin.motion(values, 0)[3]
+def _inverse_condition(cont, q, near):
+    """``1/cond`` at input ``q``, walking there in small steps from the nearest solved step."""
+    step = min(near, key=lambda st: abs(st.inputs[cont.joint] - q))
+    values = cont.walk(step.state, step.inputs[cont.joint], q, cont.h / 16)
+    return 1.0 / cont.kin.motion(values, 0)[3]
 
 
 def _refine_peaks(kin, cont, steps, dead):
@@ -238,44 +241,58 @@ def _refine_peaks(kin, cont, steps, dead):
     """
     conds = [s.condition for s in steps]
     known = [d.input for d in dead]
-    fine = kin.with_accuracy(PRESETS["exact"])  # positions to rounding: Newton's tolerance would blur the peak
+    # Positions to rounding: Newton's tolerance would blur the peak.
+    fine = Continuation(kin.with_accuracy(PRESETS["exact"]), cont.joint, cont.fixed)
+    fine.h, fine.locate = cont.h, cont.locate
+    eps_q = 4 * math.sqrt(2.2e-16) * (1.0 if cont.angular else kin.size)
+
+    def report(q, within, group, text):
+        if not any(abs(q - d) <= max(2 * cont.locate, within) for d in known):
+            dead.append(DeadPoint(q, within, "singular", group.label, group.joints, text))
+            known.append(q)
+
     for k in range(1, len(steps) - 1):
         c = conds[k]
-        if not (c >= conds[k - 1] and c >= conds[k + 1] and c > WATCH_CONDITION) or not math.isfinite(c):
+        if not (c >= conds[k - 1] and c >= conds[k + 1] and c > WATCH_CONDITION):
             continue
+        q = steps[k].inputs[cont.joint]
+        group = _worst_group(kin, steps[k].state)
+        if not c < SINGULAR_CONDITION:  # the grid hit the singular point itself
+            report(q, eps_q, group, f"{group.label}: Jacobian singular at input {cont.fmt(q)} (joints "
+                   f"{', '.join(group.joints)}); a branch or change point")
+            continue
+        near = steps[k - 1:k + 2]
         a, b = steps[k - 1].inputs[cont.joint], steps[k + 1].inputs[cont.joint]
         slope = max(1 / conds[k - 1], 1 / conds[k + 1]) / abs(b - a) * 2
-        state = steps[k].state
         g = (math.sqrt(5) - 1) / 2
         x1, x2 = b - g * (b - a), a + g * (b - a)
         try:
-            f1, f2 = _inverse_condition(fine, cont, x1, state), _inverse_condition(fine, cont, x2, state)
+            f1, f2 = _inverse_condition(fine, x1, near), _inverse_condition(fine, x2, near)
             while abs(b - a) > cont.locate:
                 if f1 < f2:
                     b, x2, f2 = x2, x1, f1
                     x1 = b - g * (b - a)
-                    f1 = _inverse_condition(fine, cont, x1, state)
+                    f1 = _inverse_condition(fine, x1, near)
                 else:
                     a, x1, f1 = x1, x2, f2
                     x2 = a + g * (b - a)
-                    f2 = _inverse_condition(fine, cont, x2, state)
-        except SolveFailure:
+                    f2 = _inverse_condition(fine, x2, near)
+        except (_Stuck, SolveFailure) as exc:
+            report(q, abs(near[2].inputs[cont.joint] - near[0].inputs[cont.joint]) / 2, group, f"{group.label}: condition number {c:.3g} peaks near input "
+                   f"{cont.fmt(q)} (joints {', '.join(group.joints)}); a singular point is likely there but "
+                   f"could not be located ({exc})")
             continue
         q = 0.5 * (a + b)
         fmin = min(f1, f2)
-        singular = fmin * SINGULAR_CONDITION < 1 or fmin <= 10 * slope * abs(b - a)
-        if singular and not any(abs(q - d) <= 2 * cont.locate + 1e-12 for d in known):
-            group = _worst_group(kin, cont, q, state)
+        if fmin * SINGULAR_CONDITION < 1 or fmin <= 10 * slope * abs(b - a):
             # A singular point is located no better than √eps (the pose there is a double root).
-            within = max(abs(b - a) / 2, fmin / slope, 4 * math.sqrt(2.2e-16) * (1.0 if cont.angular else kin.size))
-            dead.append(DeadPoint(q, within, "singular", group.label, group.joints,
-                                  f"{group.label}: Jacobian singular at input {cont.fmt(q)} (joints "
-                                  f"{', '.join(group.joints)}, condition {1 / fmin:.3g}); a branch or change point: "
-                                  "the sweep stays in the drawn assembly mode"))
+            within = max(abs(b - a) / 2, fmin / slope, eps_q)
+            report(q, within, group, f"{group.label}: Jacobian singular at input {cont.fmt(q)} (joints "
+                   f"{', '.join(group.joints)}, condition {1 / fmin:.3g}); a branch or change point: "
+                   "the sweep stays in the drawn assembly mode")
 
 
-def _worst_group(kin, cont, q, state):
-    values = kin.positions(cont.inputs(q), state)
+def _worst_group(kin, values):
     worst, best = None, -1.0
     for g in kin.groups:
         if not g.unknowns:

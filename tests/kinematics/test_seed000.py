@@ -209,3 +209,34 @@ def test_t9_solving_beyond_the_limit_is_an_error_naming_the_joints():
     # Seed 000 T9: at 128° there is no solution: a precise error, never a pose.
     with pytest.raises(DomesError, match=r"joints B, C, D.*127\.1688"):
         solve_at(triple_rocker(), math.radians(128), order=0)
+
+
+# -- T2: the six-bar's assembled matrices against the paper's symbolic J and B (§2.9) -------------------
+
+
+def test_t2_six_bar_assembly_matches_the_symbolic_matrices():
+    # Seed 000 T2: loops (a,b,c,d), (d,e,f,g); unknowns [φ2, φ3, φ5, s]; J and B equal the §2.9 matrices (up to
+    # the orientation of each loop), including the zero pattern J[0:2, 2:4] = 0, J[2:4, 0] = 0, B[2:4] = 0.
+    import numpy as np
+
+    from domes.kinematics import Kinematics
+    from domes.kinematics.structure import evaluate
+    m = example("watt-six-bar.json")
+    kin = Kinematics(m, order=1, method="newton")
+    (g,) = [g for g in kin.groups if g.unknowns]
+    assert g.unknowns == ("rot:coupler", "rot:rocker", "rot:rod", "s:g")
+    step = solve_at(m, math.radians(60), order=1, method="newton")
+    values = step.state
+    _, J = kin._assemble(g, values)
+    B = np.concatenate([evaluate(loop, values)[1].get("q:a", [0.0, 0.0]) for loop in g.loops])
+    p1, (p2, p3, p5, s) = math.radians(60), T6[60][:4]
+    al, l1, l2, l3d, l3, l5, guide = math.radians(60), 1.0, 3.5, 2.5, 2.0, 4.0, 0.0
+    Jp = np.array([[-l2 * math.sin(p2), l3d * math.sin(p3 + al), 0, 0],
+                   [l2 * math.cos(p2), -l3d * math.cos(p3 + al), 0, 0],
+                   [0, -l3 * math.sin(p3), -l5 * math.sin(p5), -math.cos(guide)],
+                   [0, l3 * math.cos(p3), l5 * math.cos(p5), -math.sin(guide)]])
+    Bp = np.array([-l1 * math.sin(p1), l1 * math.cos(p1), 0, 0])
+    for rows in (slice(0, 2), slice(2, 4)):
+        sign = 1.0 if np.allclose(J[rows], Jp[rows], atol=1e-9) else -1.0
+        assert np.allclose(sign * J[rows], Jp[rows], atol=1e-9)
+        assert np.allclose(sign * B[rows], Bp[rows], atol=1e-9)
