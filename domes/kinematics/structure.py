@@ -24,7 +24,6 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass
-from functools import cached_property
 from itertools import combinations
 
 from domes.errors import DomesError
@@ -70,15 +69,10 @@ class Segment:
     s0: float = 0.0
     sign: float = 1.0
 
-    @property
-    def variables(self) -> tuple[str, ...]:
-        names = tuple(v for v, _ in self.rotation.terms)
-        return names + ((self.slide,) if self.kind == "slide" else ())
 
-
-def link_segment(mech_rotation: Rotation, p, q) -> Segment:
+def link_segment(rotation: Rotation, p, q) -> Segment:
     dx, dy = q[0] - p[0], q[1] - p[1]
-    return Segment("link", mech_rotation, math.hypot(dx, dy), math.atan2(dy, dx))
+    return Segment("link", rotation, math.hypot(dx, dy), math.atan2(dy, dx))
 
 
 def evaluate(segments, values, rates=None, lib=math):
@@ -271,10 +265,6 @@ class Structure:
             here = j.at
         segs.append(link_segment(self.rotations[link], here, at))
         return tuple(segs)
-
-    @cached_property
-    def variables(self) -> tuple[str, ...]:
-        return tuple(sorted(self.drawn))
 
 
 def _slide_var(j: Joint, input_vars) -> str:

@@ -21,8 +21,6 @@ from __future__ import annotations
 
 import math
 
-Pair = tuple
-
 
 def rr_unit(l, alpha, phi, phid, lib=math):
     """Unit of the edge of an R–R (or RRR1) link: ``∇A = l·u(φ + α)``; variable ``φ``.
