@@ -120,3 +120,20 @@ def test_polygon_gap():
     assert polygon_gap(sq, [(0.2, 0.2), (0.4, 0.2), (0.3, 0.4)]) == 0.0  # contained
     assert polygon_gap(sq, [(1, 1), (2, 1), (2, 2)]) == 0.0  # touching corner
     assert polygon_gap(sq, [(0, 3), (1, 3), (1, 4)]) == pytest.approx(2.0)
+
+
+def test_swing_arm_travel_against_shock_length():
+    # A driven P joint between two moving links (the shock absorber): the swing arm's angle follows the triangle
+    # O, S1, S2 with |S1 S2| = s (law of cosines); the travel over s ∈ [3.5, 4.5] is the difference of the two.
+    m = example("swing-arm-shock.json")
+    o, s1, s2 = (0.0, 0.0), (0.5, 3.0), (4.0, 0.8)
+    a, b = math.dist(o, s1), math.dist(o, s2)
+
+    def swing(length):
+        gamma = math.acos((a * a + b * b - length ** 2) / (2 * a * b))
+        return math.atan2(s1[1], s1[0]) - gamma
+
+    r = output_range(m, "angle:swing", 3.5, 4.5, joint="shock")
+    assert (r.minimum, r.maximum) == pytest.approx((swing(4.5), swing(3.5)), abs=1e-12)
+    assert r.travel == pytest.approx(swing(3.5) - swing(4.5), abs=1e-12)
+    assert r.stopped_at is None
