@@ -90,7 +90,7 @@ def rotatability(mech: Mechanism, accuracy=None) -> Rotatability:
 
     For a four-bar the Grashof class is attached as an independent check.
     """
-    kin = Kinematics(mech, [f"angle:{mech.links[-1]}"], 0, "assur", accuracy)
+    kin = Kinematics(mech, None, 0, "assur", accuracy)  # every group: a limit anywhere stops the input
     cont = Continuation(kin)
     if not cont.angular:
         raise DomesError(f"{mech.name}: the input {cont.joint} is a P joint; rotatability concerns R inputs")
@@ -281,7 +281,10 @@ def interference(mech: Mechanism, first: str, second: str, start: float, stop: f
     anchors = {}
     for name in (first, second):
         link = polys[name].link
-        joint = mech.joints_of(link)[0]
+        pins = [j for j in mech.joints_of(link) if j.kind == "R"]
+        if not pins:
+            raise DomesError(f"{mech.name}: polygon {name!r} is on link {link!r}, which has no R joint to place it by")
+        joint = pins[0]
         anchors[name] = (link, joint)
         outputs += [f"point:{joint.name}", f"angle:{link}"]
     kin = Kinematics(mech, sorted(set(outputs)), 0, "assur", accuracy)

@@ -87,6 +87,9 @@ SINGULAR_CONDITION = 1e7
 JUMP = 0.75
 
 
+_as_accuracy = accuracy  # Kinematics takes an ``accuracy`` argument of the same name
+
+
 class SolveFailure(DomesError):
     """A group could not be solved at this input: ``kind`` is ``limit``, ``undetermined`` or ``newton``."""
 
@@ -159,12 +162,12 @@ def parse_outputs(mech: Mechanism, names) -> list[Output]:
 class Kinematics:
     """A compiled query: outputs, derivative order, method and accuracy of one mechanism."""
 
-    def __init__(self, mech: Mechanism, outputs=None, order: int = 0, method: str = "assur", accuracy_=None):
+    def __init__(self, mech: Mechanism, outputs=None, order: int = 0, method: str = "assur", accuracy=None):
         if order not in (0, 1, 2):
             raise DomesError(f"order must be 0, 1 or 2, got {order}")
         self.mech = mech
         self.order = order
-        self.accuracy = accuracy(accuracy_)
+        self.accuracy = _as_accuracy(accuracy)
         self.structure = s = Structure.of(mech, method)
         self.outputs = parse_outputs(mech, outputs)
         links = set()
@@ -203,7 +206,7 @@ class Kinematics:
     def with_accuracy(self, spec) -> "Kinematics":
         """The same query with another accuracy."""
         other = copy.copy(self)
-        other.accuracy = accuracy(spec)
+        other.accuracy = _as_accuracy(spec)
         return other
 
     @property

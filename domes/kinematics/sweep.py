@@ -117,7 +117,7 @@ class Continuation:
     def start(self, q):
         """State at ``q`` reached from the drawn pose."""
         try:
-            return self.walk(None, self.q0, q)
+            return self.walk(dict(self.kin.structure.drawn), self.q0, q)
         except _Stuck as st:
             raise DomesError(f"input {self.fmt(q)} is not reachable from the drawn pose ({self.fmt(self.q0)}): "
                              f"{st.failure} near input {self.fmt(st.good)}") from None

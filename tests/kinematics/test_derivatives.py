@@ -19,7 +19,7 @@ FILES = sorted(p.name for p in EXAMPLES.glob("*.json"))
 @pytest.mark.parametrize("name", FILES)
 def test_derivatives_match_finite_differences(name, method):
     m = example(name)
-    kin = Kinematics(m, order=2, method=method, accuracy_="exact")  # Newton to rounding: FD of positions
+    kin = Kinematics(m, order=2, method=method, accuracy="exact")  # Newton to rounding: FD of positions
     cont = Continuation(kin)
     inp = m.inputs[0]
     for k, dq in enumerate((0.3, 1.7, 3.9)):
