@@ -19,6 +19,7 @@ import math
 from dataclasses import dataclass
 
 from domes.errors import DomesError
+from domes.kinematics.matrices import apply, displacement_matrix
 from domes.kinematics.model import Mechanism
 from domes.kinematics.solve import Kinematics, SolveFailure
 from domes.kinematics.structure import Structure
@@ -294,10 +295,8 @@ def interference(mech: Mechanism, first: str, second: str, start: float, stop: f
     def placed(values, name):
         link, joint = anchors[name]
         d = values[f"angle:{link}"] - (0.0 if link == mech.ground else mech.reference_angle(link))
-        px, py = values[f"point:{joint.name}.x"], values[f"point:{joint.name}.y"]
-        c, s = math.cos(d), math.sin(d)
-        return [(px + c * (x - joint.at[0]) - s * (y - joint.at[1]), py + s * (x - joint.at[0]) + c * (y - joint.at[1]))
-                for x, y in polys[name].vertices]
+        D = displacement_matrix(d, joint.at, (values[f"point:{joint.name}.x"], values[f"point:{joint.name}.y"]))
+        return [apply(D, v) for v in polys[name].vertices]
 
     def gap(values):
         return polygon_gap(placed(values, first), placed(values, second))

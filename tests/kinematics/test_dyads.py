@@ -167,3 +167,39 @@ def test_dyad_closed_forms_agree_with_newton(kind):
         b = solve_at(m, q0 + dq, method="newton").values
         for k in a:
             assert b[k] == pytest.approx(a[k], abs=1e-9), (k, dq)
+
+
+# -- §2-2 displacement matrices (digest E.1 K-01..K-04) -----------------------------------------------------
+
+
+def test_k01_displacement_matrix_example_1():
+    # Seed 002 例1 (K-01): θ = 60°, p1 = (1,1), p = (3,2), q1 = (3,1) → D, q = (4.000, 3.732) (abs 1e-3; exact
+    # 3.3660254, 0.6339746, 3.7320508).
+    from domes.kinematics.matrices import apply, displacement_matrix
+    D = displacement_matrix(math.radians(60), (1, 1), (3, 2))
+    assert D[0] == pytest.approx((0.5, -0.866, 3.366), abs=1e-3)
+    assert D[1] == pytest.approx((0.866, 0.5, 0.634), abs=1e-3)
+    assert (D[0][2], D[1][2]) == pytest.approx((3.3660254, 0.6339746), abs=1e-7)
+    assert apply(D, (3, 1)) == pytest.approx((4.0, 3.7320508), abs=1e-7)
+
+
+def test_k02_to_k04_rigid_velocity_and_acceleration_matrices():
+    # K-02: D is rigid (distances kept); K-03/K-04: V·[q;1] and A·[q;1] match FD of D(t)·[q1;1] (1e-7 / 1e-5 rel).
+    from domes.kinematics.matrices import acceleration_matrix, apply, displacement_matrix, velocity_matrix
+    p1, q1, r1 = (0.3, -0.2), (1.7, 0.9), (-0.4, 2.2)
+
+    def th(t):
+        return 0.4 + 1.3 * t + 0.7 * t * t
+
+    def p(t):
+        return (1.0 + 0.5 * t - 0.2 * t * t, -0.3 + 0.8 * t + 0.1 * t ** 3)
+
+    t = 0.6
+    D = displacement_matrix(th(t), p1, p(t))
+    assert math.dist(apply(D, q1), apply(D, r1)) == pytest.approx(math.dist(q1, r1), abs=1e-14)
+    q = apply(D, q1)
+    V = velocity_matrix(1.3 + 1.4 * t, p(t), _d(p, t, 1e-6))
+    assert apply(V, q) == pytest.approx(_d(lambda x: apply(displacement_matrix(th(x), p1, p(x)), q1), t, 1e-6), rel=1e-7)
+    A = acceleration_matrix(1.3 + 1.4 * t, 1.4, p(t), _dd(p, t, 1e-4))
+    assert apply(A, q) == pytest.approx(_dd(lambda x: apply(displacement_matrix(th(x), p1, p(x)), q1), t, 1e-4),
+                                        rel=1e-5)
