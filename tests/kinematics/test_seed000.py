@@ -6,7 +6,7 @@ import random
 import pytest
 
 from domes.errors import DomesError
-from domes.kinematics import Input, Joint, Mechanism, Structure, sweep
+from domes.kinematics import CouplerPoint, Input, Joint, Mechanism, Structure, sweep
 from domes.kinematics.examples import triple_rocker
 from domes.kinematics.units import reverse, rp1_unit, rp2_unit, rr_unit
 from kinematics_cases import angle_diff, example, solve_at
@@ -240,3 +240,37 @@ def test_t2_six_bar_assembly_matches_the_symbolic_matrices():
         sign = 1.0 if np.allclose(J[rows], Jp[rows], atol=1e-9) else -1.0
         assert np.allclose(sign * J[rows], Jp[rows], atol=1e-9)
         assert np.allclose(sign * B[rows], Bp[rows], atol=1e-9)
+
+
+# -- T10: multi-DOF and an open (end) link ----------------------------------------------------------------------
+
+
+def test_t10_two_dof_five_bar_and_an_end_link():
+    # Seed 000 T10 [P]: a 2-DOF five-bar (two grounded cranks as knowns: TK = 2, TU = 2, L = 1) with an end link
+    # driven relative to the coupler (open chain: no loop equations). Velocities and accelerations match finite
+    # differences of positions when both inputs move.
+    from domes.kinematics import Kinematics
+    from domes.kinematics.sweep import Continuation
+    m = Mechanism.build("five-bar", ["g", "c1", "l1", "l2", "c2", "tool"], "g",
+                        [Joint("A", "R", ("g", "c1"), (0, 0)), Joint("B", "R", ("c1", "l1"), (0.5, 0.9)),
+                         Joint("C", "R", ("l1", "l2"), (2.0, 2.4)), Joint("D", "R", ("l2", "c2"), (3.4, 1.0)),
+                         Joint("E", "R", ("c2", "g"), (3.0, 0.0)), Joint("T", "R", ("l1", "tool"), (1.2, 1.6))],
+                        [Input("A", 2.0, 0.3), Input("E", -1.0, 0.1), Input("T", 0.5, 0.0)],
+                        points=[CouplerPoint("tip", "tool", (1.2, 2.6))])
+    kin = Kinematics(m, ["angle:l2", "point:tip"], order=2, accuracy="exact")
+    assert [g.kind for g in kin.groups] == ["driver", "driver", "RRR", "driver"]
+    assert kin.equations == 2
+    drawn = kin.drawn_inputs()
+    state = Continuation(kin).start(drawn["A"])
+    step = kin.at(drawn, state)
+
+    def pos(t):
+        q = {j: drawn[j] + i.speed * t + 0.5 * i.acceleration * t * t for j, i in kin.inputs.items()}
+        return kin.output_values(kin.positions(q, state), {}, {}, 0)
+
+    h1, h2 = 1e-6, 1e-4
+    for col in ("angle:l2", "point:tip.x", "point:tip.y"):
+        d1 = (pos(h1)[col] - pos(-h1)[col]) / (2 * h1)
+        d2 = (pos(h2)[col] - 2 * pos(0.0)[col] + pos(-h2)[col]) / h2 ** 2
+        assert step.values[col + "'"] == pytest.approx(d1, rel=1e-6, abs=1e-7)
+        assert step.values[col + "''"] == pytest.approx(d2, rel=1e-4, abs=1e-5)
