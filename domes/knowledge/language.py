@@ -49,6 +49,8 @@ ATTRIBUTE_WORDS = {
     "outputs": "outputs", "links": "links", "vertices": "links", "joints": "joints", "edges": "joints",
 }
 
+#: Words that open a clause with its own modal after "and" (in a statement; "is"/"are" too).
+MODALS = ("must", "should", "shall", "may", "cannot")
 #: Every word the grammar uses: an unquoted name stops at any of them.
 KEYWORDS = frozenset(
     """a an the of to by via through with in it them its on at as for any every each all no not
@@ -158,6 +160,7 @@ class _Parser:
     def __init__(self, text: str):
         self.tokens = tokenize(text)
         self.i = 0
+        self.clause_modals = MODALS
 
     # -- primitives ------------------------------------------------------------
 
@@ -394,17 +397,20 @@ class _Parser:
 
     def predicate_and(self, ctx: str):
         items = [self.predicate_term(ctx)]
-        while self.accept("and"):
+        while self.at("and") and not self.at_modal_clause():
+            self.i += 1
             items.append(self.predicate_term(ctx))
         return items[0] if len(items) == 1 else And(tuple(items))
+
+    def at_modal_clause(self) -> bool:
+        """At ``and must ...``: a new clause with its own modal (and its own negation)."""
+        return self.at("and") and self.peek().kind == "word" and self.peek().value in self.clause_modals
 
     def predicate_term(self, ctx: str):
         if self.accept_punct("["):
             inner = self.predicate_expr(ctx)
             self.expect_punct("]")
             return inner
-        if self.at("must", "should", "shall", "may", "cannot"):
-            return Not(self.predicate_term(ctx)) if self.modal() else self.predicate_term(ctx)
         if self.accept("not"):
             return Not(self.predicate_term(ctx))
         return self.vertex_predicate() if ctx == "vertex" else self.loop_predicate()
@@ -625,11 +631,17 @@ class _Parser:
             else:
                 name = self.name("'every vertex', 'the vertex representing ...', 'the number of ...' or a name")
                 domain = Domain("loop", name) if self.accept("loop") else Domain("vertex", name)
-        negated = self.modal(after_no=negated_subject)
-        condition = self.predicate_expr("vertex" if domain.kind == "vertex" else "loop")
-        if negated != negated_subject:
-            condition = Not(condition)
-        return ForAll(domain, condition)
+        ctx = "vertex" if domain.kind == "vertex" else "loop"
+        self.clause_modals = MODALS + ("is", "are")
+        clauses = []
+        while True:  # "must not A and must B": each modal negates its own clause only
+            negated = self.modal(after_no=negated_subject)
+            condition = self.predicate_expr(ctx)
+            clauses.append(Not(condition) if negated != negated_subject else condition)
+            if not self.at_modal_clause():
+                break
+            self.i += 1
+        return ForAll(domain, clauses[0] if len(clauses) == 1 else And(tuple(clauses)))
 
     # -- relevance ------------------------------------------------------------------------
 
