@@ -195,7 +195,10 @@ def run_export(args: argparse.Namespace) -> int:
 def run_import(args: argparse.Namespace) -> int:
     frames = read_file(args.file)
     with KnowledgeBase(args.db, create=True) as kb:
-        kb.import_frames(frames)
+        try:
+            kb.import_frames(frames)
+        except DomesError as exc:
+            raise DomesError(f"{args.file}: {exc}; nothing was imported") from None
     print(f"imported {len(frames)} criteria from {args.file}")
     return 0
 

@@ -28,7 +28,7 @@ from domes.errors import DomesError
 from domes.knowledge.tree import (
     Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Criterion, Distance,
     Domain, ForAll, HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
-    SharesJoint, TypeIs,
+    NAME_PATTERN, SharesJoint, TypeIs,
 )
 from domes.labelled.graph import JOINT_TYPES
 
@@ -69,8 +69,9 @@ _SCANNER = re.compile(
     r"|(?P<op><=|>=|!=|==|≤|≥|≠|<|>|=)|(?P<punct>[()\[\],.])"
 )
 _SYMBOL_OPS = {"<=": "<=", ">=": ">=", "!=": "!=", "==": "=", "≤": "<=", "≥": ">=", "≠": "!=", "<": "<", ">": ">", "=": "="}
-_NAME = re.compile(r"^[a-z0-9]+(_[a-z0-9]+)*$")
 MAX_TEXT = 2000
+#: Deepest nesting of brackets and 'not' in a criterion.
+MAX_DEPTH = 40
 
 
 class CriterionSyntaxError(DomesError):
@@ -160,6 +161,7 @@ class _Parser:
     def __init__(self, text: str):
         self.tokens = tokenize(text)
         self.i = 0
+        self.depth = 0
         self.clause_modals = MODALS
 
     # -- primitives ------------------------------------------------------------
@@ -212,7 +214,7 @@ class _Parser:
         if tok.kind == "string":
             self.i += 1
             name = normalise_name(tok.value)
-            if not _NAME.match(name):
+            if not NAME_PATTERN.match(name):
                 raise CriterionSyntaxError(
                     f"column {tok.pos + 1}: “{tok.value}” is not a name: use letters, digits, spaces and hyphens",
                     tok.pos, "a name of letters, digits, spaces and hyphens",
@@ -224,7 +226,13 @@ class _Parser:
             self.i += 1
         if not words:
             self.error(f"{what} (in quotes, e.g. “ground”)")
-        return normalise_name(" ".join(words))
+        name = normalise_name(" ".join(words))
+        if not NAME_PATTERN.match(name):
+            raise CriterionSyntaxError(
+                f"column {tok.pos + 1}: {' '.join(words)!r} is not a name: use letters a-z, digits, spaces and hyphens",
+                tok.pos, "a name of letters, digits, spaces and hyphens",
+            )
+        return name
 
     def number(self) -> int:
         tok = self.tok
@@ -406,7 +414,22 @@ class _Parser:
         """At ``and must ...``: a new clause with its own modal (and its own negation)."""
         return self.at("and") and self.peek().kind == "word" and self.peek().value in self.clause_modals
 
+    def nest(self) -> None:
+        """One more level of brackets or 'not': refuse absurd nesting instead of exhausting the stack."""
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise CriterionSyntaxError(
+                f"column {self.tok.pos + 1}: nested more than {MAX_DEPTH} deep", self.tok.pos, "less nesting"
+            )
+
     def predicate_term(self, ctx: str):
+        self.nest()
+        try:
+            return self._predicate_term(ctx)
+        finally:
+            self.depth -= 1
+
+    def _predicate_term(self, ctx: str):
         if self.accept_punct("["):
             inner = self.predicate_expr(ctx)
             self.expect_punct("]")
@@ -665,6 +688,13 @@ class _Parser:
         return items[0] if len(items) == 1 else AllOf(tuple(items))
 
     def relevance_term(self):
+        self.nest()
+        try:
+            return self._relevance_term()
+        finally:
+            self.depth -= 1
+
+    def _relevance_term(self):
         if self.accept_punct("["):
             inner = self.relevance_or()
             self.expect_punct("]")

@@ -85,7 +85,7 @@ def _grouped(c, loop: bool, be: str) -> str:
 def _after_modal(c, loop: bool) -> str:
     """``must A`` / ``must not A``; a conjunction as clauses ``must A and must not B``."""
     if isinstance(c, And):
-        return " and ".join(_after_modal(x, loop) for x in c.items)
+        return " and ".join("must " + _grouped(x, loop, "be") if isinstance(x, And) else _after_modal(x, loop) for x in c.items)
     if isinstance(c, Not):
         return "must not " + condition_text(c.item, loop)
     return "must " + condition_text(c, loop)

@@ -26,11 +26,15 @@ True
 
 from __future__ import annotations
 
+import re
 from dataclasses import MISSING, dataclass, fields
 from typing import Any, Union
 
 from domes.errors import DomesError
 from domes.labelled.graph import JOINT_TYPES
+
+#: Names of roles (named vertices), loops and problem classes: lower case words joined by "_".
+NAME_PATTERN = re.compile(r"^[a-z0-9]+(_[a-z0-9]+)*$")
 
 #: Comparison operators of the language, and the operator of the negated comparison.
 NEGATED_OP = {"<": ">=", "<=": ">", "=": "!=", "!=": "=", ">=": "<", ">": "<="}
@@ -331,6 +335,8 @@ def _check_str(value: Any, where: str, allowed: tuple | None = None, optional: b
         raise DomesError(f"{where}: expected a non-empty string, got {value!r}")
     if allowed is not None and value not in allowed:
         raise DomesError(f"{where}: {value!r} is not one of {', '.join(map(str, allowed))}")
+    if allowed is None and not NAME_PATTERN.match(value):
+        raise DomesError(f"{where}: {value!r} is not a name (lower-case letters and digits joined by '_')")
 
 
 def _validate(node: Any, where: str, context: str | None = None) -> None:
