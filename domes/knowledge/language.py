@@ -103,7 +103,7 @@ def tokenize(text: str) -> list[Token]:
     """The tokens of a criterion; a character outside the language is a syntax error.
 
     >>> [t.value for t in tokenize("VER-TICES “TYPE” (P R)")]
-    ['vertices', 'type', '(', 'p', 'r', ')']
+    ['vertices', 'TYPE', '(', 'p', 'r', ')', '']
     """
     if not isinstance(text, str):
         raise CriterionSyntaxError(f"expected text, got {type(text).__name__}", 0, "text")

@@ -86,7 +86,7 @@ class ScreeningResult:
         """One line for the designer (DOMES prints a message when every graph is eliminated)."""
         total = len(self.kept) + len(self.rejections)
         if self.emptied_by is not None:
-            text = f"all {total} candidates were eliminated; the last ones by criterion {self.emptied_by!r}"
+            text = f"all {total} candidate(s) were eliminated, the last by criterion {self.emptied_by!r}"
             if self.skipped:
                 text += f"; criteria {', '.join(self.skipped)} were skipped"
             return text + ". Consider other numbers of loops or gear pairs."

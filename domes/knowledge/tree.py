@@ -283,8 +283,9 @@ def to_json(node: Any) -> Any:
 def from_json(data: Any, where: str = "tree") -> Any:
     """The tree for JSON data made by :func:`to_json`; any malformed part raises DomesError naming where it is.
 
-    >>> from_json({"node": "Represents", "role": "ground"})
-    Represents(role='ground')
+    >>> from_json({"node": "ForAll", "domain": {"node": "Domain", "kind": "vertex", "name": "input"},
+    ...            "condition": {"node": "Adjacent", "role": "ground"}})
+    ForAll(domain=Domain(kind='vertex', name='input'), condition=Adjacent(role='ground', joint=None))
     >>> from_json({"node": "Eval", "code": "1"})
     Traceback (most recent call last):
     ...

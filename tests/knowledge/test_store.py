@@ -152,12 +152,10 @@ def test_edits_are_applied(db, capsys):
 
 def test_check_finds_a_tree_that_does_not_match_its_text(db, capsys):
     frame = CriterionFrame.create("x", "every vertex must have degree 2")
-    other = CriterionFrame.create("x", "every vertex must have degree 3")
     with sqlite3.connect(db) as conn:
         conn.execute("UPDATE criteria SET tree = ? WHERE id = 'book-i'", (json.dumps(frame.to_record()["tree"]),))
     status, _, err = run(capsys, "kb", "check", "--db", str(db))
     assert status == 2 and "book-i: the stored tree differs" in err
-    assert other.tree != frame.tree
 
 
 def test_another_schema_version_is_refused_with_a_message(db, capsys):
