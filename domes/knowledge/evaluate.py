@@ -37,8 +37,7 @@ from functools import lru_cache
 from typing import Callable
 
 from domes.knowledge.tree import (
-    Adjacent, And, Comparison, Count, Criterion, Distance, ForAll, HasMember, InLoop, JointCount, Not,
-    Or, Represents, SharesJoint, TypeIs,
+    Adjacent, And, Count, Criterion, Distance, HasMember, InLoop, JointCount, Not, Or, Represents, SharesJoint, TypeIs,
 )
 from domes.labelled.graph import JOINT_TYPES, LabelledChain
 

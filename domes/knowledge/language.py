@@ -26,9 +26,9 @@ from dataclasses import dataclass
 
 from domes.errors import DomesError
 from domes.knowledge.tree import (
-    Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Criterion, Distance,
-    Domain, ForAll, HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
-    NAME_PATTERN, SharesJoint, TypeIs,
+    NAME_PATTERN, Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Criterion,
+    Distance, Domain, ForAll, HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
+    SharesJoint, TypeIs,
 )
 from domes.labelled.graph import JOINT_TYPES
 
@@ -56,8 +56,8 @@ KEYWORDS = frozenset(
     """a an the of to by via through with in it them its on at as for any every each all no not
     and or must should shall may cannot is are be have has having value values property
     number independent representing represent represents that which whose equal than greater
-    more larger less fewer smaller at least most exactly other contain contains containing
-    include includes including within subset adjacent connected jointed joined distance from
+    more larger less fewer smaller least most exactly other contain contains containing
+    include includes including within adjacent connected jointed joined distance from
     intermediate share shares pass passes member adjoin adjoins type degree length
     problem always class freedom outputs dof edges""".split()
 ) | frozenset(JOINT_WORDS) | frozenset(JOINT_NOUNS) | frozenset(VERTEX_WORDS) | frozenset(LOOP_WORDS) \

@@ -47,6 +47,11 @@ class Problem:
     problem_class: str | None = None
     names: frozenset[str] = frozenset()
 
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "names", frozenset(normalise_name(n) for n in self.names))
+        if self.problem_class is not None:
+            object.__setattr__(self, "problem_class", normalise_name(self.problem_class))
+
     @classmethod
     def from_mapping(cls, data: Mapping, where: str = "problem") -> "Problem":
         """A problem from plain data (JSON/TOML), with errors naming the bad field.
@@ -70,11 +75,7 @@ class Problem:
         names = data.get("names", ())
         if isinstance(names, str) or not all(isinstance(n, str) for n in names):
             raise DomesError(f"{where}.names: expected a list of names")
-        return cls(
-            **kwargs,
-            problem_class=normalise_name(cls_name) if cls_name else None,
-            names=frozenset(normalise_name(n) for n in names),
-        )
+        return cls(**kwargs, problem_class=cls_name or None, names=frozenset(names))
 
 
 def is_relevant(condition: Relevance, problem) -> bool:

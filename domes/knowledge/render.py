@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from domes.knowledge.tree import (
     Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Criterion, Distance,
-    ForAll, HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
+    HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
     SharesJoint, TypeIs,
 )
 

@@ -130,7 +130,7 @@ def open_engine(url: str, create: bool = False) -> Engine:
             have = "no" if component not in found else f"version {found[component]} of the"
             raise DomesError(
                 f"the case base {url} has {have} '{component}' schema; this DOMES-py reads version {version}: "
-                "rebuild it with `domes kb build` (export your own criteria first with an older DOMES-py)"
+                "rebuild it with `domes kb build` (first export your own criteria with the DOMES-py that made it)"
             )
     return engine
 
@@ -236,6 +236,8 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
                 with Session(bind=conn) as session:
                     KnowledgeBase._insert(session, frames)
                     session.flush()
+        except SQLAlchemyError as exc:
+            raise DomesError(f"cannot build the case base {url}: {exc}") from None
         finally:
             engine.dispose()
         return frames
@@ -251,6 +253,8 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
         finally:
             kb.close()
         os.replace(tmp, path)
+    except (OSError, SQLAlchemyError) as exc:
+        raise DomesError(f"cannot build {path}: {exc}") from None
     finally:
         if tmp.exists():
             tmp.unlink()
