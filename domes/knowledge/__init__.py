@@ -8,6 +8,7 @@
 """
 
 from domes.knowledge.evaluate import compile_criterion, graph_features, holds
+from domes.knowledge.explain import explain
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.language import CriterionSyntaxError, parse_criterion, parse_relevance
 from domes.knowledge.relevance import Problem, RelevanceVector, is_relevant, relevance_vector
@@ -17,6 +18,6 @@ from domes.knowledge.store import KnowledgeBase, build
 
 __all__ = [
     "CostlyCriterion", "CriterionFrame", "CriterionSyntaxError", "KnowledgeBase", "Problem", "RelevanceVector",
-    "ScreeningResult", "build", "compile_criterion", "graph_features", "holds", "is_relevant", "parse_criterion",
+    "ScreeningResult", "build", "compile_criterion", "explain", "graph_features", "holds", "is_relevant", "parse_criterion",
     "parse_relevance", "relevance_vector", "render_criterion", "render_relevance", "screen",
 ]

@@ -8,6 +8,7 @@ import pytest
 
 from domes.chains import chains
 from domes.knowledge.evaluate import compile_criterion, graph_features, holds, simple_cycles, topology
+from domes.knowledge.explain import explain
 from domes.knowledge.language import parse_criterion
 from domes.knowledge.tree import (
     Adjacent, Comparison, Count, Distance, Domain, ForAll, HasMember, JointCount, Not, Represents, TypeIs,
@@ -283,3 +284,18 @@ def test_simple_cycles_match_networkx(links):
         g = nx.Graph(list(c.edges))
         assert len(simple_cycles(c.n, c.edges)) == len(list(nx.simple_cycles(g)))
         assert topology(c.n, tuple(c.edges)).loops == c.loops
+
+
+def test_explanations_name_what_breaks_the_criterion():
+    g = chain(WATT, {(0, 2): "G", (2, 3): "G", (1, 3): "P", (4, 5): "P"},
+              roles={0: {"ground"}, 3: {"swing_arm"}}, loops={"drive": [0, 2, 3, 1]})
+    # Loops of the Watt chain: A = 0-2-3-1 (two gear pairs), B = 0-4-5-1, C = A + B (two gear pairs).
+    assert explain(parse_criterion(BOOK_III), g) == (
+        "only 1 of the 2 independent loops can be chosen so that each meets: must have at most 1 gear pair")
+    assert explain(parse_criterion(BOOK_IV), g).startswith("the number of independent loops that have a prismatic pair is 2")
+    assert explain(parse_criterion(BOOK_VI), g) == (
+        "not met by the drive loop (links 0, 1, 2, 3): must not have a prismatic pair")
+    assert explain(parse_criterion("the swing arm is adjacent to the ground"), g) == (
+        "not met by link 3: must be adjacent to “ground”")
+    assert explain(parse_criterion("the number of loops must be 2"), g) == "the number of loops is 3, not 2"
+    assert explain(parse_criterion(BOOK_I), g) is None
