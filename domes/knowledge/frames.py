@@ -188,8 +188,8 @@ class CriterionFrame:
     @classmethod
     def from_record(cls, record: Mapping[str, Any]) -> "CriterionFrame":
         """A frame from a stored row: the stored trees are decoded and validated, not re-parsed."""
-        tree = from_json(record["tree"], "tree")
-        relevance = from_json(record["relevance"], "relevance")
+        tree = from_json(record["tree"], "tree", "criterion")
+        relevance = from_json(record["relevance"], "relevance", "relevance")
         return cls(
             id=record["id"], text=record["text"], tree=tree, category=category(tree),
             explanation=record["explanation"], keywords=tuple(record["keywords"]),

@@ -280,8 +280,10 @@ def to_json(node: Any) -> Any:
     return node
 
 
-def from_json(data: Any, where: str = "tree") -> Any:
+def from_json(data: Any, where: str = "tree", expect: str | None = None) -> Any:
     """The tree for JSON data made by :func:`to_json`; any malformed part raises DomesError naming where it is.
+
+    ``expect`` is ``"criterion"`` or ``"relevance"`` to accept only that kind of tree.
 
     >>> from_json({"node": "ForAll", "domain": {"node": "Domain", "kind": "vertex", "name": "input"},
     ...            "condition": {"node": "Adjacent", "role": "ground"}})
@@ -292,6 +294,10 @@ def from_json(data: Any, where: str = "tree") -> Any:
     domes.errors.DomesError: tree: unknown node 'Eval'
     """
     node = _decode(data, where)
+    kinds = {"criterion": (ForAll, Count), "relevance": (Always, HasName, ClassIs, Attribute, AllOf, AnyOf, NoneOf)}
+    allowed = kinds[expect] if expect else kinds["criterion"] + kinds["relevance"]
+    if not isinstance(node, allowed):
+        raise DomesError(f"{where}: {type(node).__name__} is not a {expect or 'criterion or relevance condition'}")
     _validate(node, where)
     return node
 

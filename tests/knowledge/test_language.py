@@ -164,18 +164,22 @@ def test_line_break_hyphen_only_joins_keywords():
 
 
 @pytest.mark.parametrize(
-    "data, message",
+    "data, expect, message",
     [
-        ({"node": "Eval", "code": "1"}, "unknown node 'Eval'"),
+        ({"node": "Eval", "code": "1"}, None, "unknown node 'Eval'"),
         ({"node": "ForAll", "domain": {"node": "Domain", "kind": "vertex", "name": None},
-          "condition": {"node": "HasMember", "role": "x"}}, "HasMember is not a vertex condition"),
+          "condition": {"node": "HasMember", "role": "x"}}, None, "HasMember is not a vertex condition"),
         ({"node": "ForAll", "domain": {"node": "Domain", "kind": "vertex", "name": None},
-          "condition": {"node": "TypeIs", "relation": "=", "joints": ["R", "P"]}}, "sorted distinct joint types"),
+          "condition": {"node": "TypeIs", "relation": "=", "joints": ["R", "P"]}}, None, "sorted distinct joint types"),
+        ({"node": "ForAll", "domain": {"node": "Domain", "kind": "vertex", "name": "Swing Arm"},
+          "condition": {"node": "Represents", "role": "ground"}}, None, "is not a name"),
         ({"node": "Count", "domain": {"node": "Domain", "kind": "loop", "name": None}, "condition": None,
-          "comparison": {"node": "Comparison", "op": "<", "value": -1}}, "whole number >= 0"),
-        ([1, 2], "expected an object"),
+          "comparison": {"node": "Comparison", "op": "<", "value": -1}}, None, "whole number >= 0"),
+        ([1, 2], None, "expected an object"),
+        ({"node": "Comparison", "op": "<", "value": 1}, None, "Comparison is not a criterion or relevance condition"),
+        ({"node": "Always"}, "criterion", "Always is not a criterion"),
     ],
 )
-def test_malformed_json_trees_are_refused(data, message):
+def test_malformed_json_trees_are_refused(data, expect, message):
     with pytest.raises(DomesError, match=message):
-        from_json(data)
+        from_json(data, expect=expect)
