@@ -1,7 +1,7 @@
 """Screening speed: 10,000 labelled graphs x 20 criteria, and the screening-depth knob.
 
 Run from the checkout: ``python benchmarks/bench_screening.py [--graphs N]``.
-The graphs are the 6- and 8-link one-DOF chains with random joint types
+The graphs are the 6-, 8- and 10-link one-DOF chains (2 + 16 + 230) with random joint types
 (R 80 %, P 15 %, G 5 %), a ground and an input jointed to it, other roles
 (output, piston, swing arm, shock absorber) each on a random link with
 probability 0.4, and a random simple cycle named the drive loop; the criteria are the 16 shipped
@@ -37,7 +37,7 @@ ROLES = ["output", "piston", "swing_arm", "shock_absorber", "shock_absorber"]
 
 def candidates(count: int, seed: int = 1) -> list[LabelledChain]:
     rng = random.Random(seed)
-    atlas = list(chains(links=6, dof=1)) + list(chains(links=8, dof=1))
+    atlas = [c for links in (6, 8, 10) for c in chains(links=links, dof=1)]
     out = []
     for _ in range(count):
         c = rng.choice(atlas)
