@@ -589,9 +589,14 @@ class _Parser:
         self.expect("number")
         self.expect("of")
         condition = None
-        if self.accept(*VERTEX_WORDS):
+        if self.at(*DEGREE_WORDS) or self.at(*VERTEX_WORDS):
+            degree = DEGREE_WORDS.get(self.accept(*DEGREE_WORDS))  # "the number of binary links"
+            self.expect(*VERTEX_WORDS)
             domain = Domain("vertex")
             condition = self.vertex_filter()
+            if degree is not None:
+                binary = JointCount(None, Comparison("=", degree))
+                condition = binary if condition is None else And((binary, condition))
         elif self.at("independent", *LOOP_WORDS):
             independent = self.accept("independent")
             self.expect(*LOOP_WORDS)
@@ -616,8 +621,8 @@ class _Parser:
             return self.property_relation(prop)
         if self.accept("representing"):
             return Represents(self.name("the name of a vertex"))
-        if self.at("with", "having"):
-            return self.vertex_predicate()
+        if self.at("with", "having", "adjacent", "connected", "jointed", "joined", "at", "in", "on"):
+            return self.vertex_predicate()  # "links adjacent to the ground", "links in the drive loop"
         if self.accept("that", "which"):
             return self.predicate_expr("vertex")
         return None

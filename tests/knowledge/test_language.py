@@ -95,6 +95,10 @@ SCENES = [
     ("the input is adjacent to the ground by a revolute pair", ForAll(Domain("vertex", "input"), Adjacent("ground", "R"))),
     ("the swing arm must have degree at least 3", ForAll(Domain("vertex", "swing_arm"), JointCount(None, Comparison(">=", 3)))),
     ("no vertex may have type (G P R)", ForAll(Domain("vertex"), Not(TypeIs("=", ("G", "P", "R"))))),
+    (
+        "the number of binary links adjacent to the ground must be at least 2",
+        Count(Domain("vertex"), And((JointCount(None, Comparison("=", 2)), Adjacent("ground"))), Comparison(">=", 2)),
+    ),
 ]
 
 
