@@ -194,6 +194,7 @@ def run_export(args: argparse.Namespace) -> int:
 
 def run_import(args: argparse.Namespace) -> int:
     frames = read_file(args.file)
+    check_unique(frames, args.file)  # validated whole before the database is even opened
     with KnowledgeBase(args.db, create=True) as kb:
         try:
             kb.import_frames(frames)

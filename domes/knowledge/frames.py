@@ -173,9 +173,9 @@ class CriterionFrame:
 
     def edited(self, **changes: Any) -> "CriterionFrame":
         """A new frame with some fields changed, re-validated (``text`` re-parsed)."""
-        bad = set(changes) - set(FIELDS) - {"id"}
+        bad = set(changes) - (set(FIELDS) - {"id"})
         if bad:
-            raise DomesError(f"cannot edit field(s) {sorted(bad)}")
+            raise DomesError(f"cannot edit field(s) {sorted(bad)} (the id is fixed: add a new criterion instead)")
         current = {k: v for k, v in self.to_mapping().items() if k in FIELDS}
         if "text" in changes:  # a derived level or relevance follows the new text
             if "level" not in changes and self.level == cost_level(self.tree):

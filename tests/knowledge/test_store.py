@@ -117,6 +117,15 @@ def test_a_refused_import_writes_nothing(db, tmp_path, capsys):
         assert db.read_bytes() == before, name
 
 
+def test_a_refused_import_creates_no_database(tmp_path, capsys):
+    path = tmp_path / "twice.toml"
+    path.write_text('[[criterion]]\nid = "a"\ntext = "every vertex must have degree 2"\n' * 2)
+    target = tmp_path / "new.db"
+    status, _, err = run(capsys, "kb", "import", "--db", str(target), str(path))
+    assert status == 2 and "given twice" in err
+    assert not target.exists()
+
+
 def test_error_messages_name_the_file_line_and_field(tmp_path):
     path = tmp_path / "c.toml"
     path.write_text('[[criterion]]\nid = "a"\ntext = "every vertex must have degree 2"\n\n'
