@@ -8,13 +8,16 @@ import sys
 from pathlib import Path
 
 from domes.errors import DomesError
+from domes.knowledge.explain import explain
 from domes.knowledge.frames import CriterionFrame
-from domes.knowledge.language import parse_criterion, parse_relevance
+from domes.knowledge.language import normalise_name, parse_criterion, parse_relevance
 from domes.knowledge.relevance import Problem, relevance_vector
 from domes.knowledge.render import render_criterion, render_relevance
+from domes.knowledge.screening import screen
 from domes.knowledge.sources import FORMATS, check_unique, dumps_json, dumps_toml, read_file, write_atomically
 from domes.knowledge.store import DB_ENV, KNOWLEDGE_ENV, KnowledgeBase, build
 from domes.knowledge.tree import category, to_json
+from domes.labelled import LabelledChain
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -80,6 +83,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     q = kb.add_parser("build", parents=[db], help="build the case base from the knowledge sources")
     q.add_argument("--from", dest="source", metavar="DIR", help=f"knowledge sources folder (default: ${KNOWLEDGE_ENV}, else knowledge/)")
     q.set_defaults(func=run_build)
+
+    q = kb.add_parser(
+        "screen", parents=[db], help="screen labelled graphs (JSON) by the relevant criteria, level by level",
+        description="Multi-level screening. GRAPHS is a JSON file: a list of labelled graphs, each "
+        '{"links": 4, "joints": [[0, 1, "R"], [1, 2, "P"], ...], "roles": {"0": ["ground"]}, "loops": {"drive": [0, 1, 2, 3]}} '
+        "(joint type R when omitted). Every rejection names its criterion and what broke it.",
+    )
+    q.add_argument("graphs", help="JSON file of labelled graphs ('-' reads stdin)")
+    q.add_argument("--problem", help="problem attributes as JSON (default: every criterion is relevant)")
+    q.add_argument("--max-level", type=int, help="screening depth: apply criteria up to this level only")
+    q.add_argument("--format", choices=("text", "json"), default="text")
+    q.set_defaults(func=run_screen)
 
     q = kb.add_parser("relevance", parents=[db], help="the relevance vector of a problem")
     q.add_argument("problem", help='problem attributes as JSON, e.g. \'{"dof": 1, "slider_pairs": 1, "names": ["piston"]}\'')
@@ -241,14 +256,89 @@ def run_build(args: argparse.Namespace) -> int:
     return 0
 
 
-def run_relevance(args: argparse.Namespace) -> int:
+def _problem(text: str) -> Problem:
     try:
-        data = json.loads(Path(args.problem).read_text() if args.problem.endswith(".json") else args.problem)
+        data = json.loads(Path(text).read_text() if text.endswith(".json") else text)
     except (OSError, json.JSONDecodeError) as exc:
         raise DomesError(f"problem: not a JSON object or .json file: {exc}") from None
     if not isinstance(data, dict):
         raise DomesError("problem: expected a JSON object of attributes")
-    problem = Problem.from_mapping(data)
+    return Problem.from_mapping(data)
+
+
+def read_labelled_graphs(text: str, where: str) -> list[LabelledChain]:
+    """Labelled graphs from JSON: a list of ``{"links", "joints", "roles", "loops"}`` objects."""
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise DomesError(f"{where}: not valid JSON: {exc}") from None
+    if not isinstance(data, list):
+        raise DomesError(f"{where}: expected a list of labelled graphs")
+    graphs = []
+    for index, item in enumerate(data):
+        here = f"{where}: graph {index}"
+        if not isinstance(item, dict) or set(item) - {"links", "joints", "roles", "loops"}:
+            raise DomesError(f"{here}: expected an object with links, joints and optional roles, loops")
+        links, joints = item.get("links"), item.get("joints")
+        if not isinstance(links, int) or not isinstance(joints, list):
+            raise DomesError(f"{here}: 'links' must be a number and 'joints' a list of [u, v] or [u, v, type]")
+        edges, types = [], []
+        for j in joints:
+            if not isinstance(j, list) or len(j) not in (2, 3) or not all(isinstance(x, int) for x in j[:2]):
+                raise DomesError(f"{here}: joint {j!r} is not [u, v] or [u, v, type]")
+            edges.append((j[0], j[1]))
+            types.append(j[2] if len(j) == 3 else "R")
+        roles, loops = item.get("roles", {}), item.get("loops", {})
+        if not isinstance(roles, dict) or not all(isinstance(r, list) for r in roles.values()):
+            raise DomesError(f"{here}: 'roles' must map a link number to a list of role names")
+        try:
+            role_map = {int(v): [normalise_name(str(r)) for r in names] for v, names in roles.items()}
+        except ValueError:
+            raise DomesError(f"{here}: 'roles' keys must be link numbers") from None
+        if not isinstance(loops, dict):
+            raise DomesError(f"{here}: 'loops' must map a loop name to its links in order")
+        try:
+            graphs.append(LabelledChain.build(links, edges, types, role_map, {normalise_name(k): v for k, v in loops.items()}))
+        except (DomesError, TypeError, ValueError) as exc:
+            raise DomesError(f"{here}: {exc}") from None
+    return graphs
+
+
+def run_screen(args: argparse.Namespace) -> int:
+    if args.graphs == "-":
+        graphs = read_labelled_graphs(sys.stdin.read(), "stdin")
+    else:
+        try:
+            graphs = read_labelled_graphs(Path(args.graphs).read_text(encoding="utf-8"), args.graphs)
+        except OSError as exc:
+            raise DomesError(f"{args.graphs}: cannot read: {exc.strerror}") from None
+    problem = _problem(args.problem) if args.problem else None
+    with KnowledgeBase(args.db) as kb:
+        frames = kb.frames()
+    result = screen(graphs, frames, problem, max_level=args.max_level)
+    by_id = {f.id: f for f in frames}
+    reasons = {r.index: explain(by_id[r.criterion].tree, graphs[r.index]) for r in result.rejections}
+    if args.format == "json":
+        out = {
+            "kept": list(result.kept_indices),
+            "rejected": [{"graph": r.index, "criterion": r.criterion, "level": r.level, "reason": reasons[r.index]}
+                         for r in result.rejections],
+            "applied": list(result.applied), "skipped": list(result.skipped), "not_relevant": list(result.not_relevant),
+            "emptied_by": result.emptied_by, "levels": [list(x) for x in result.levels], "message": result.message,
+        }
+        json.dump(out, sys.stdout, ensure_ascii=False, indent=1)
+        sys.stdout.write("\n")
+        return 0
+    print(f"# {result.message}")
+    print(f"# criteria applied in order: {', '.join(result.applied) or 'none'}")
+    print(f"kept: {' '.join(map(str, result.kept_indices)) or 'none'}")
+    for r in result.rejections:
+        print(f"  graph {r.index}: rejected by {r.criterion} (level {r.level}): {reasons[r.index]}")
+    return 0
+
+
+def run_relevance(args: argparse.Namespace) -> int:
+    problem = _problem(args.problem)
     with KnowledgeBase(args.db) as kb:
         vector = relevance_vector(kb.frames(), problem)
     print(" ".join(map(str, vector.bits)))

@@ -1,6 +1,7 @@
 """Multi-level screening and the relevance vector (seed 002 §5-2 IV, §7-2; digest 4.3, 4.4, A9)."""
 
 import itertools
+import json
 
 import pytest
 
@@ -126,3 +127,27 @@ def test_disabled_criteria_are_not_applied():
     criteria = [CriterionFrame.create("off", "every vertex must have degree 3", enabled=False)]
     g = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)])
     assert screen([g], criteria).kept_indices == (0,)
+
+
+def test_screen_command(tmp_path, capsys):
+    from domes.cli import main
+    from domes.knowledge.store import build
+
+    db = tmp_path / "kb.db"
+    build(repo_root() / "knowledge", str(db))
+    # Seed 002 §4-1: the Suzuki original (swing arm on link 3, 0-based 2) and the same chain
+    # with the swing arm on a link not jointed to the ground.
+    suzuki = {"links": 6, "joints": [[0, 1], [0, 2], [1, 3], [2, 3], [1, 4], [2, 5], [4, 5, "P"]],
+              "roles": {"0": ["ground"], "2": ["swing arm"], "4": ["shock absorber"], "5": ["shock absorber"]}}
+    floating = dict(suzuki, roles={"0": ["ground"], "3": ["swing arm"], "4": ["shock absorber"], "5": ["shock absorber"]})
+    graphs = tmp_path / "graphs.json"
+    graphs.write_text(json.dumps([suzuki, floating]))
+    problem = '{"dof": 1, "names": ["ground", "swing arm", "shock absorber"]}'
+    assert main(["kb", "screen", str(graphs), "--db", str(db), "--problem", problem, "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["kept"] == [0]
+    assert out["rejected"] == [{"graph": 1, "criterion": "swing-arm-on-ground", "level": 2,
+                                "reason": "not met by link 3: must be adjacent to “ground”"}]
+    graphs.write_text('[{"links": 3, "joints": [[0, 1], [1, 5]]}]')
+    assert main(["kb", "screen", str(graphs), "--db", str(db)]) == 2
+    assert "graph 0" in capsys.readouterr().err
