@@ -176,6 +176,11 @@ class _Parser:
     def at(self, *words: str) -> bool:
         return self.tok.kind == "word" and self.tok.value in words
 
+    def ahead(self, k: int, *words: str) -> bool:
+        """Whether the k-th token after the current one is one of ``words``."""
+        tok = self.peek(k)
+        return tok.kind == "word" and tok.value in words
+
     def accept(self, *words: str) -> str | None:
         if self.at(*words):
             self.i += 1
@@ -278,22 +283,20 @@ class _Parser:
         if self.tok.kind != "number" and not self.at(*NUMBER_WORDS):
             self.error("a comparison ('more than 1', 'at most 2', '<= 2', 'equal to 1', ...)")
         value = self.number()
-        if self.at("or") and self.peek().kind == "word" and self.peek().value in ("more", "less", "fewer"):
+        if self.at("or") and self.ahead(1, "more", "less", "fewer"):
             self.i += 1
             return Comparison(">=" if self.accept("more", "less", "fewer") == "more" else "<=", value)
         return Comparison("=", value)
 
-    def joint_kind(self, loop: bool = False, required: bool = True) -> tuple[bool, str | None]:
+    def joint_kind(self, loop: bool = False) -> str | None:
         """``gear pairs`` -> G, ``pairs``/``joints`` -> any type (None); for a loop also ``links``."""
-        if self.at(*JOINT_WORDS) and self.peek().kind == "word" and self.peek().value in JOINT_NOUNS + ("cylinder", "cylinders"):
+        if self.at(*JOINT_WORDS) and self.ahead(1, *JOINT_NOUNS, "cylinder", "cylinders"):
             letter = JOINT_WORDS[self.accept(*JOINT_WORDS)]
             self.i += 1
-            return True, letter
+            return letter
         if self.accept(*JOINT_NOUNS) or (loop and self.accept(*VERTEX_WORDS, "edges")):
-            return True, None
-        if required:
-            self.error("a kind of joint ('gear pairs', 'slider pair', 'revolute joints', 'joints', ...)")
-        return False, None
+            return None
+        self.error("a kind of joint ('gear pairs', 'slider pair', 'revolute joints', 'joints', ...)")
 
     def joint_set(self) -> tuple[str, ...]:
         self.expect_punct("(")
@@ -359,6 +362,7 @@ class _Parser:
         self.accept("the", "a", "an", "any")
         if self.accept(*VERTEX_WORDS):
             self.expect("representing")
+            self.accept("the")
         return self.name("the name of a vertex")
 
     def loop_ref(self) -> str:
@@ -367,11 +371,13 @@ class _Parser:
         if self.accept("independent"):
             self.expect(*LOOP_WORDS)
             self.expect("representing")
+            self.accept("the")
             name = self.name("the name of a loop")
             self.accept("loop")
             return name
         if self.accept(*LOOP_WORDS):
             self.expect("representing")
+            self.accept("the")
             name = self.name("the name of a loop")
             self.accept("loop")
             return name
@@ -412,7 +418,7 @@ class _Parser:
 
     def at_modal_clause(self) -> bool:
         """At ``and must ...``: a new clause with its own modal (and its own negation)."""
-        return self.at("and") and self.peek().kind == "word" and self.peek().value in self.clause_modals
+        return self.at("and") and self.ahead(1, *self.clause_modals)
 
     def nest(self) -> None:
         """One more level of brackets or 'not': refuse absurd nesting instead of exhausting the stack."""
@@ -449,7 +455,7 @@ class _Parser:
         if self.accept("connected", "jointed", "joined"):
             self.expect("to", "with")
             role = self.vertex_ref()
-            if self.at("through", "via") and self.peek().value in ("a", "an") and self.peek(2).value == "intermediate":
+            if self.at("through", "via") and self.ahead(1, "a", "an") and self.ahead(2, "intermediate"):
                 self.i += 3
                 self.expect(*VERTEX_WORDS)
                 return Distance(role, Comparison("=", 2))
@@ -474,7 +480,7 @@ class _Parser:
             negated = self.accept("no") is not None
             if not negated:
                 self.accept("a", "an", "one", "any")
-            _, joint = self.joint_kind()
+            joint = self.joint_kind()
             self.expect("with")
             condition = Adjacent(self.vertex_ref(), joint)
             return Not(condition) if negated else condition
@@ -488,7 +494,7 @@ class _Parser:
     def via_joint(self) -> str | None:
         if self.accept("by", "through", "via"):
             self.accept("a", "an")
-            return self.joint_kind()[1]
+            return self.joint_kind()
         return None
 
     def loop_predicate(self):
@@ -523,10 +529,10 @@ class _Parser:
             prop, _ = self.property_name(allowed)
             condition = self.property_relation(prop)
         elif self.accept("no"):
-            condition = JointCount(self.joint_kind(loop=ctx == "loop")[1], Comparison("=", 0))
-        elif self.at("a", "an") and not (ctx == "loop" and self.peek().value in VERTEX_WORDS):
+            condition = JointCount(self.joint_kind(loop=ctx == "loop"), Comparison("=", 0))
+        elif self.at("a", "an") and not (ctx == "loop" and self.ahead(1, *VERTEX_WORDS)):
             self.i += 1
-            condition = JointCount(self.joint_kind(loop=ctx == "loop")[1], Comparison(">=", 1))
+            condition = JointCount(self.joint_kind(loop=ctx == "loop"), Comparison(">=", 1))
         elif ctx == "loop" and self.at("a", "an", *VERTEX_WORDS):
             condition = HasMember(self.vertex_ref())
             if self.accept("as"):
@@ -534,7 +540,7 @@ class _Parser:
                 self.expect("member")
         else:
             comparison = self.comparison()
-            condition = JointCount(self.joint_kind(loop=ctx == "loop")[1], comparison)
+            condition = JointCount(self.joint_kind(loop=ctx == "loop"), comparison)
         if self.accept("in"):
             self.expect("it", "them")
         return condition
@@ -546,9 +552,9 @@ class _Parser:
             self.error("a criterion (e.g. 'every vertex must have degree at most 3')")
         start = self.i
         self.accept("the")
-        if self.at("value") and self.peek().value == "of":
+        if self.at("value") and self.ahead(1, "of"):
             statement = self.value_statement()
-        elif self.at("number") and self.peek().value == "of":
+        elif self.at("number") and self.ahead(1, "of"):
             statement = self.count_statement()
         else:
             self.i = start
@@ -603,7 +609,7 @@ class _Parser:
             domain = Domain("independent_loop" if independent else "loop")
             condition = self.loop_filter()
         else:
-            _, joint = self.joint_kind(loop=False)
+            joint = self.joint_kind()
             negated = self.modal()
             comparison = self.comparison()
             if negated:
@@ -620,7 +626,7 @@ class _Parser:
             self.accept("has", "have", "is", "are")
             return self.property_relation(prop)
         if self.accept("representing"):
-            return Represents(self.name("the name of a vertex"))
+            return Represents(self.vertex_ref())
         if self.at("with", "having", "adjacent", "connected", "jointed", "joined", "at", "in", "on"):
             return self.vertex_predicate()  # "links adjacent to the ground", "links in the drive loop"
         if self.accept("that", "which"):
@@ -650,10 +656,12 @@ class _Parser:
             self.accept("the")
             if self.accept(*VERTEX_WORDS):
                 self.expect("representing")
+                self.accept("the")
                 domain = Domain("vertex", self.name("the name of a vertex"))
             elif self.accept("independent") or self.at(*LOOP_WORDS):
                 self.expect(*LOOP_WORDS)
                 self.expect("representing")
+                self.accept("the")
                 domain = Domain("loop", self.name("the name of a loop"))
                 self.accept("loop")
             else:
