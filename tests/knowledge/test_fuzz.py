@@ -18,7 +18,7 @@ from domes.knowledge.tree import (
 )
 from domes.labelled import LabelledChain
 
-BOUNDED = settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+BOUNDED = settings(max_examples=300, deadline=None, database=None, suppress_health_check=[HealthCheck.too_slow])
 
 WATT = LabelledChain.build(
     6, [(0, 1), (0, 2), (2, 3), (1, 3), (0, 4), (4, 5), (1, 5)], {(0, 2): "P", (4, 5): "G"},
