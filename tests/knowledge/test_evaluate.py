@@ -114,6 +114,23 @@ SHOCK_RULES = [
 ]
 
 
+def test_motorcycle_ground_and_shock_absorber_counts():
+    # Book: 2 + 3 = 5 choices of ground (Fig. 4-9a-e); 4 shock-absorber structures (4-10a-d; 4-9e has none).
+    dyad = [compile_criterion(parse_criterion(t)) for t in SHOCK_RULES[2:4]]
+    grounds, structures = set(), set()
+    for c in chains(links=6, dof=1):
+        for ground in range(6):
+            grounds.add(LabelledChain.build(6, c.edges, None, {ground: {"ground"}}))
+            for pair in itertools.combinations(range(6), 2):
+                roles = {v: {"shock_absorber"} for v in pair}
+                roles.setdefault(ground, set()).add("ground")
+                g = LabelledChain.build(6, c.edges, None, roles)
+                if all(t(graph_features(g)) for t in dyad):
+                    structures.add(g)
+    assert len(grounds) == 5
+    assert len(structures) == 4
+
+
 def test_motorcycle_counts_ten_then_six():
     # Book: 10 swing-arm designs (Fig. 4-11a-j); with "the swing arm is adjacent to the ground", 6.
     tests = [compile_criterion(parse_criterion(t)) for t in SHOCK_RULES]
