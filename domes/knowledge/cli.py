@@ -221,12 +221,11 @@ def run_import(args: argparse.Namespace) -> int:
 
 def run_check(args: argparse.Namespace) -> int:
     if args.files:
-        total = 0
+        frames = []
         for name in args.files:
-            frames = read_file(name)
+            frames.extend(read_file(name))
             check_unique(frames, name)
-            total += len(frames)
-        print(f"ok: {total} criteria in {len(args.files)} file(s)")
+        print(f"ok: {len(frames)} criteria in {len(args.files)} file(s)")
         return 0
     problems = []
     with KnowledgeBase(args.db) as kb:
