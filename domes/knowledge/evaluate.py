@@ -32,6 +32,7 @@ True
 
 from __future__ import annotations
 
+from bisect import bisect_left
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Callable
@@ -166,7 +167,7 @@ class Features:
     """Precomputed bit masks of one labelled graph (see the module docstring)."""
 
     __slots__ = (
-        "topology", "n", "all", "type_of", "type_mask", "degree_mask", "count_mask", "neighbours",
+        "topology", "n", "all", "type_mask", "degree_mask", "count_mask", "neighbours",
         "typed_neighbours", "roles", "edge_types", "named_loops", "all_cycles",
     )
 
@@ -196,7 +197,6 @@ class Features:
             counts[t][u] += 1
             counts[t][v] += 1
             edge_types[t] = edge_types.get(t, 0) | 1 << i
-        self.type_of = type_of
         self.neighbours = neighbours
         self.typed_neighbours = typed
         self.edge_types = edge_types
@@ -220,15 +220,8 @@ class Features:
 
 
 def _edge_index(edges, a: int, b: int) -> int:
-    key = (min(a, b), max(a, b))
-    lo, hi = 0, len(edges)
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if edges[mid] < key:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo
+    """Index of the joint a-b in the sorted joints of a labelled chain."""
+    return bisect_left(edges, (min(a, b), max(a, b)))
 
 
 def _group(values: list[int]) -> dict[int, int]:
