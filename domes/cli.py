@@ -25,6 +25,7 @@ SUBCOMMAND_MODULES = (
     "domes.synthesis.cli",
     "domes.chains.cli",
     "domes.regeneration.cli",
+    "domes.knowledge.cli",
     "domes.kinematics.cli",
 )
 

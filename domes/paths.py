@@ -1,6 +1,7 @@
-"""Where the shipped knowledge lives: ``knowledge/`` beside the package.
+"""Where the shipped knowledge lives: ``knowledge/`` and ``casebase.db`` of the checkout.
 
-``DOMES_KNOWLEDGE`` overrides the directory.
+``DOMES_KNOWLEDGE`` overrides the knowledge folder (criteria, scenes,
+mechanisms, cases).
 
 >>> knowledge_dir().name
 'knowledge'
@@ -11,16 +12,27 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import domes
 from domes.errors import DomesError
 
+KNOWLEDGE_ENV = "DOMES_KNOWLEDGE"
 
-def knowledge_dir() -> Path:
-    """The knowledge directory (criteria, scenes, mechanisms, cases)."""
-    env = os.environ.get("DOMES_KNOWLEDGE")
-    path = Path(env) if env else Path(__file__).resolve().parents[1] / "knowledge"
-    if not path.is_dir():
+
+def repo_root() -> Path:
+    """The checkout that holds the ``domes`` package (installed editable), with pyproject.toml."""
+    root = Path(domes.__file__).resolve().parent.parent
+    if not (root / "pyproject.toml").is_file():
         raise DomesError(
-            f"knowledge directory {path} not found; run from a DOMES-py checkout "
-            "(pip install -e .) or set DOMES_KNOWLEDGE to its path"
+            f"cannot find the DOMES-py checkout (no pyproject.toml in {root}); "
+            f"give the case base with --db or DOMES_DB and the sources with {KNOWLEDGE_ENV}"
         )
-    return path
+    return root
+
+
+def knowledge_dir(path: str | Path | None = None) -> Path:
+    """The knowledge folder: ``path``, else ``$DOMES_KNOWLEDGE``, else ``knowledge/`` of the checkout."""
+    chosen = path or os.environ.get(KNOWLEDGE_ENV)
+    folder = Path(chosen) if chosen else repo_root() / "knowledge"
+    if not folder.is_dir():
+        raise DomesError(f"knowledge folder {folder} does not exist (set {KNOWLEDGE_ENV} or pass --from)")
+    return folder
