@@ -1,12 +1,14 @@
 """Design scenes as data: the rules of a regeneration, read from TOML.
 
 A scene names the chains to start from, the stages that assign roles (each
-stage picks a link, or a pair of links, under ``where`` conditions; see
-:mod:`domes.regeneration.rules`), screens that filter, how to particularize
-the chosen roles back into joints (e.g. the joint inside the shock absorber
-becomes prismatic), the existing designs to recognise, and the book's counts
-to print beside ours. The shipped scenes are in ``knowledge/scenes/``; the
-format is documented in ``docs/regeneration.md``.
+stage gives its role to a link, or a pair of links, in every way that keeps
+its ``rules`` true), screens (stages without a role: their rules filter),
+how to particularize the chosen roles back into joints (e.g. the joint
+inside the shock absorber becomes prismatic), the existing designs to
+recognise, and the book's counts to print beside ours. Rules are sentences
+of the criterion language (:mod:`domes.knowledge.language`), the same
+language as the knowledge base's screening criteria. The shipped scenes are
+in ``knowledge/scenes/``; the format is documented in ``docs/regeneration.md``.
 
 >>> scene = load_scene("motorcycle")
 >>> [s.name for s in scene.stages]
@@ -17,29 +19,33 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Callable
 
 from domes.errors import DomesError
+from domes.knowledge.evaluate import compile_criterion
+from domes.knowledge.language import normalise_name, parse_criterion
+from domes.knowledge.tree import And, Criterion, ForAll, JointCount, Not, names_used
 from domes.labelled.graph import JOINT_TYPES
 from domes.labelled.mechanism import Mechanism
 from domes.labelled.tomlsource import TomlSource
 from domes.paths import knowledge_dir
-from domes.regeneration.rules import Condition, impossible, parse_condition
 from domes.synthesis.number import chain_joints
 
 SELECTIONS = ("link", "adjacent pair", "pair")
-_STAGE_KEYS = {"name", "role", "select", "where", "screen", "note"}
+_STAGE_KEYS = {"name", "role", "select", "rules", "note"}
 _TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book"}
 
 
 @dataclass(frozen=True)
 class Stage:
-    """One divergence stage (``role`` is assigned) or one screen (``screen`` role is tested)."""
+    """One divergence stage (``role`` is given out) or, without a role, one screen."""
 
     name: str
-    role: str
+    role: str  # "" for a screen
     select: str  # one of SELECTIONS, or "screen"
-    where: tuple[Condition, ...]
-    where_text: tuple[str, ...]
+    rules: tuple[Criterion, ...]
+    rule_text: tuple[str, ...]
+    tests: tuple[Callable, ...]  # the compiled rules (features -> bool)
     line: int
 
     @property
@@ -74,7 +80,7 @@ class Scene:
 
     @property
     def roles(self) -> list[str]:
-        """The roles the stages assign, in stage order."""
+        """The roles the stages give out, in stage order."""
         return [s.role for s in self.stages if not s.is_screen]
 
 
@@ -111,30 +117,28 @@ def parse_scene(src: TomlSource) -> Scene:
     except DomesError as exc:
         raise src.error(str(exc), src.line_of("links")) from None
 
-    stages: list[Stage] = []
     raw_stages = data.get("stages", [])
     if not isinstance(raw_stages, list) or not raw_stages:
         raise src.error("a scene needs at least one [[stages]] table")
-    assigned_at: dict[str, int] = {}
+    given_at: dict[str, int] = {}
     for i, raw in enumerate(raw_stages):
-        if isinstance(raw, dict) and "role" in raw and "screen" not in raw:
-            assigned_at.setdefault(str(raw["role"]), i)
-    for i, raw in enumerate(raw_stages):
-        stages.append(_parse_stage(src, i, raw, assigned_at, links))
+        if isinstance(raw, dict) and isinstance(raw.get("role"), str):
+            given_at.setdefault(normalise_name(raw["role"]), i)
+    stages = tuple(_parse_stage(src, i, raw, given_at, links) for i, raw in enumerate(raw_stages))
 
     roles = {s.role for s in stages if not s.is_screen}
     particular = []
     for i, raw in enumerate(data.get("particularize", [])):
         line = src.table_line("particularize", i)
         between, joint = raw.get("between"), raw.get("joint")
-        if not (isinstance(between, list) and len(between) == 2):
+        if not (isinstance(between, list) and len(between) == 2 and all(isinstance(r, str) for r in between)):
             raise src.error("particularize: 'between' must name two roles", line)
         for role in between:
-            if role not in roles:
-                raise src.error(f"particularize: unknown role {role!r}; the stages assign {', '.join(sorted(roles))}", src.line_of(role, line) or line)
+            if normalise_name(role) not in roles:
+                raise src.error(f"particularize: unknown role {role!r}; the stages give out {', '.join(sorted(roles))}", src.line_of(role, line) or line)
         if joint not in JOINT_TYPES:
             raise src.error(f"particularize: unknown joint type {joint!r}; known: {', '.join(JOINT_TYPES)}", src.line_of("joint", line) or line)
-        particular.append(Particularization((str(between[0]), str(between[1])), joint))
+        particular.append(Particularization((normalise_name(between[0]), normalise_name(between[1])), joint))
 
     existing = []
     for i, raw in enumerate(data.get("existing", [])):
@@ -142,9 +146,8 @@ def parse_scene(src: TomlSource) -> Scene:
         ref = raw.get("mechanism") if isinstance(raw, dict) else None
         if not isinstance(ref, str):
             raise src.error("existing: 'mechanism' must be a file path", line)
-        path = (Path(src.path).parent / ref).resolve()
         try:
-            mechanism = Mechanism.load(path)
+            mechanism = Mechanism.load((Path(src.path).parent / ref).resolve())
         except DomesError as exc:
             raise src.error(f"existing design {ref!r}: {exc}", line) from None
         if mechanism.n != links:
@@ -163,7 +166,7 @@ def parse_scene(src: TomlSource) -> Scene:
         links=links,
         dof=dof,
         include_fractionated=bool(chains.get("include_fractionated", False)),
-        stages=tuple(stages),
+        stages=stages,
         particularize=tuple(particular),
         existing=tuple(existing),
         book_counts=counts,
@@ -171,48 +174,67 @@ def parse_scene(src: TomlSource) -> Scene:
     )
 
 
-def _parse_stage(src: TomlSource, i: int, raw: object, assigned_at: dict[str, int], links: int) -> Stage:
+def _parse_stage(src: TomlSource, i: int, raw: object, given_at: dict[str, int], links: int) -> Stage:
     line = src.table_line("stages", i)
     if not isinstance(raw, dict):
         raise src.error(f"stage {i + 1} must be a table", line)
     for key in raw:
         if key not in _STAGE_KEYS:
             raise src.error(f"stage {i + 1}: unknown key {key!r}; a stage has {', '.join(sorted(_STAGE_KEYS))}", src.line_of(key, line) or line)
-    if "screen" in raw:
-        role, select = raw["screen"], "screen"
-        if role not in assigned_at or assigned_at[role] > i:
-            known = sorted(r for r, at in assigned_at.items() if at < i)
-            raise src.error(f"stage {i + 1}: screen of unknown role {role!r}; roles assigned before it: {', '.join(known) or 'none'}", src.line_of(role, line) or line)
-    else:
-        role = raw.get("role")
-        if not isinstance(role, str) or not role.isidentifier():
-            raise src.error(f"stage {i + 1}: 'role' must be a role name (letters, digits, _)", src.line_of("role", line) or line)
+    if "role" in raw:
+        if not isinstance(raw["role"], str) or not normalise_name(raw["role"]).isidentifier():
+            raise src.error(f"stage {i + 1}: 'role' must be a role name", src.line_of("role", line) or line)
+        role = normalise_name(raw["role"])
         select = raw.get("select", "link")
         if select not in SELECTIONS:
             raise src.error(f"stage {i + 1}: select must be one of {', '.join(SELECTIONS)}, got {select!r}", src.line_of("select", line) or line)
-    texts = raw.get("where", [])
+    else:
+        role, select = "", "screen"
+        if "select" in raw:
+            raise src.error(f"stage {i + 1}: a screen (a stage without a role) selects nothing", src.line_of("select", line) or line)
+    texts = raw.get("rules", [])
     if isinstance(texts, str):
         texts = [texts]
-    conditions = []
+    if select == "screen" and not texts:
+        raise src.error(f"stage {i + 1}: a stage needs a 'role' to give out, or 'rules' to screen by", line)
+    trees = []
     for text in texts:
         at = src.line_of(text, line) or line
+        if not isinstance(text, str):
+            raise src.error(f"stage {i + 1}: rules must be sentences (strings)", at)
         try:
-            condition = parse_condition(text)
+            tree = parse_criterion(text)
         except DomesError as exc:
-            raise src.error(f"stage {i + 1}: {exc}", at) from None
-        for used in sorted(condition.roles()):
-            if used not in assigned_at:
-                known = sorted(r for r, k in assigned_at.items() if k < i)
-                raise src.error(f"stage {i + 1}: unknown role {used!r} in {text!r}; roles assigned before this stage: {', '.join(known) or 'none'}", at)
-            if assigned_at[used] > i or (assigned_at[used] == i and select != "screen"):
+            raise src.error(f"stage {i + 1}: rule {text!r}: {exc}", at) from None
+        roles, _ = names_used(tree)
+        for used in roles:
+            if used not in given_at:
+                known = sorted(r for r, k in given_at.items() if k <= i)
+                raise src.error(f"stage {i + 1}: unknown role {used!r} in {text!r}; roles given out so far: {', '.join(known) or 'none'}", at)
+            if given_at[used] > i:
                 raise src.error(
-                    f"stage {i + 1}: {text!r} cannot hold: role {used!r} is assigned only at stage {assigned_at[used] + 1}, "
-                    "after this choice is made",
+                    f"stage {i + 1}: rule {text!r} cannot hold yet: role {used!r} is given out only at stage {given_at[used] + 1}",
                     at,
                 )
-        conditions.append(condition)
-    why = impossible(conditions, links)
-    if why:
-        raise src.error(f"stage {i + 1}: the conditions {list(texts)} cannot hold: {why}", src.line_of("where", line) or line)
-    name = str(raw.get("name", f"{role} {select}" if select != "screen" else f"screen {role}"))
-    return Stage(name, role, select, tuple(conditions), tuple(texts), line)
+        why = _impossible_degree(tree, links)
+        if why:
+            raise src.error(f"stage {i + 1}: rule {text!r} cannot hold: {why}", at)
+        trees.append(tree)
+    name = str(raw.get("name", role or f"screen {i + 1}"))
+    return Stage(name, role, select, tuple(trees), tuple(texts), tuple(compile_criterion(t) for t in trees), line)
+
+
+def _impossible_degree(tree: Criterion, links: int) -> str | None:
+    """Why a rule's joint-count tests on its links can never all hold on ``links``-link chains."""
+    if not isinstance(tree, ForAll) or tree.domain.kind != "vertex":
+        return None
+    terms = list(tree.condition.items) if isinstance(tree.condition, And) else [tree.condition]
+    allowed = set(range(2, links))
+    for term in terms:
+        negated = isinstance(term, Not)
+        inner = term.item if negated else term
+        if isinstance(inner, JointCount) and inner.joint is None:
+            allowed &= {d for d in range(2, links) if inner.comparison(d) != negated}
+    if not allowed:
+        return f"no link of a {links}-link chain has such a number of joints (every link has 2 to {links - 1})"
+    return None

@@ -1,11 +1,12 @@
 """Specialization stage by stage, particularization, and recognition of existing designs.
 
 Each stage of a scene gives one role to one link (or a pair of links) of
-every partly labelled chain, in every way its ``where`` conditions allow;
-a chain with no admissible choice is dropped, which is the backtracking of
-Fig. 5-11 done breadth-first. Duplicates are removed exactly: only one
-choice per orbit of the label-preserving automorphism group is taken (the
-book's "similar links", §3-3-III.1), and the nauty certificate of every
+every partly labelled chain, in every way that keeps the stage's rules
+true; a chain with no admissible choice is dropped, which is the
+backtracking of Fig. 5-11 done breadth-first. Duplicates are removed
+exactly: only one choice per orbit of the label-preserving automorphism
+group is tried (the book's "similar links", §3-3-III.1; the rules are
+invariant under those automorphisms), and the nauty certificate of every
 result is checked once more.
 
 ``raw`` counts are what the same stages give without the similarity
@@ -28,6 +29,7 @@ from typing import Callable
 
 from domes.chains.generate import ChainGenerator
 from domes.errors import DomesError
+from domes.knowledge.evaluate import graph_features
 from domes.labelled.graph import LabelledChain
 from domes.regeneration.scene import Scene, Stage
 
@@ -99,14 +101,20 @@ class Regeneration:
 
 
 def _choices(chain: LabelledChain, stage: Stage) -> list[tuple[int, ...]]:
-    """Admissible selections (a link, or a pair of links) for ``stage`` on ``chain``."""
-    ok = [x for x in range(chain.n) if all(c.holds(chain, x) for c in stage.where)]
+    """Every selection (a link, or a pair of links) ``stage`` could make on ``chain``."""
     if stage.select == "link":
-        return [(x,) for x in ok]
-    allowed = set(ok)
+        return [(x,) for x in range(chain.n)]
     if stage.select == "adjacent pair":
-        return [(u, v) for u, v in chain.edges if u in allowed and v in allowed]
-    return list(combinations(ok, 2))
+        return list(chain.edges)
+    return list(combinations(range(chain.n), 2))
+
+
+def _keeps(chain: LabelledChain, stage: Stage) -> bool:
+    """Whether the stage's rules hold on ``chain``."""
+    if not stage.tests:
+        return True
+    features = graph_features(chain)
+    return all(test(features) for test in stage.tests)
 
 
 def _orbit_representatives(chain: LabelledChain, choices: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
@@ -157,14 +165,19 @@ def regenerate(scene: Scene, progress: Callable[[str], None] | None = None) -> R
         seen: set = set()
         for chain, index, group_order in current:
             if stage.is_screen:
-                if all(all(c.holds(chain, x) for c in stage.where) for x in chain.links_with_role(stage.role)):
+                if _keeps(chain, stage):
                     following.append((chain, index, group_order))
                 continue
             for links in _orbit_representatives(chain, _choices(chain, stage)):
                 child = _assign(chain, links, stage.role)
-                if child.certificate not in seen:
+                if _keeps(child, stage) and child.certificate not in seen:
                     seen.add(child.certificate)
                     following.append((child, index, group_order))
+        if not following and current and not stage.is_screen:
+            raise DomesError(
+                f"{scene.path}:{stage.line}: stage {number + 1} ({stage.name}): its rules cannot hold: "
+                f"no link of any of the {len(current)} chains so far can be given the role {stage.role!r}"
+            )
         current = following
         # Each class stands for |Aut(chain)| / |Aut(labelled)| numbered assignments.
         raw = sum(order // chain.automorphisms().order for chain, _, order in current)

@@ -115,3 +115,21 @@ def test_regenerate_json(capsys):
     assert {j["type"] for j in first["joints"]} == {"R", "P"}
     assert main(["regenerate", "motorcycle", "--format", "json", "--new-only"]) == 0
     assert len(json.loads(capsys.readouterr().out)["candidates"]) == 5
+
+
+def test_distance_two_reading_of_the_radial_rule():
+    # The knowledge base's stricter reading of F1 (tiles connected through an
+    # intermediate link: distance exactly 2) keeps those of the 41 with the tiles
+    # two joints apart, checked here with networkx shortest paths.
+    import networkx as nx
+
+    from domes.knowledge.evaluate import holds
+    from domes.knowledge.language import parse_criterion
+
+    rule = parse_criterion("the vertex representing “tile A” must be connected to the vertex representing “tile B” through an intermediate link")
+    result = regenerate(load_scene("tyre-drum"))
+    for c in result.candidates:
+        m = c.mechanism
+        (a,), (b,) = m.links_with_role("tile_a"), m.links_with_role("tile_b")
+        assert holds(rule, m) == (nx.shortest_path_length(m.to_networkx(), a, b) == 2)
+    assert any(holds(rule, c.mechanism) for c in result.candidates if c.existing)
