@@ -267,40 +267,22 @@ def _problem(text: str) -> Problem:
 
 
 def read_labelled_graphs(text: str, where: str) -> list[LabelledChain]:
-    """Labelled graphs from JSON: a list of ``{"links", "joints", "roles", "loops"}`` objects."""
+    """Labelled graphs from JSON: a list of graphs (see :meth:`LabelledChain.from_dict`), or the
+    output of ``domes regenerate --format json`` (its candidates)."""
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise DomesError(f"{where}: not valid JSON: {exc}") from None
+    if isinstance(data, dict) and isinstance(data.get("candidates"), list):
+        data = data["candidates"]
     if not isinstance(data, list):
-        raise DomesError(f"{where}: expected a list of labelled graphs")
+        raise DomesError(f"{where}: expected a list of labelled graphs, or the output of domes regenerate --format json")
     graphs = []
     for index, item in enumerate(data):
-        here = f"{where}: graph {index}"
-        if not isinstance(item, dict) or set(item) - {"links", "joints", "roles", "loops"}:
-            raise DomesError(f"{here}: expected an object with links, joints and optional roles, loops")
-        links, joints = item.get("links"), item.get("joints")
-        if not isinstance(links, int) or not isinstance(joints, list):
-            raise DomesError(f"{here}: 'links' must be a number and 'joints' a list of [u, v] or [u, v, type]")
-        edges, types = [], []
-        for j in joints:
-            if not isinstance(j, list) or len(j) not in (2, 3) or not all(isinstance(x, int) for x in j[:2]):
-                raise DomesError(f"{here}: joint {j!r} is not [u, v] or [u, v, type]")
-            edges.append((j[0], j[1]))
-            types.append(j[2] if len(j) == 3 else "R")
-        roles, loops = item.get("roles", {}), item.get("loops", {})
-        if not isinstance(roles, dict) or not all(isinstance(r, list) for r in roles.values()):
-            raise DomesError(f"{here}: 'roles' must map a link number to a list of role names")
-        try:
-            role_map = {int(v): [normalise_name(str(r)) for r in names] for v, names in roles.items()}
-        except ValueError:
-            raise DomesError(f"{here}: 'roles' keys must be link numbers") from None
-        if not isinstance(loops, dict):
-            raise DomesError(f"{here}: 'loops' must map a loop name to its links in order")
-        try:
-            graphs.append(LabelledChain.build(links, edges, types, role_map, {normalise_name(k): v for k, v in loops.items()}))
-        except (DomesError, TypeError, ValueError) as exc:
-            raise DomesError(f"{here}: {exc}") from None
+        graph = LabelledChain.from_dict(item, f"{where}: graph {index}")
+        roles = {v: [normalise_name(r) for r in names] for v, names in enumerate(graph.roles)}
+        loops = {normalise_name(name): links for name, links in graph.named_loops}
+        graphs.append(LabelledChain.build(graph.n, graph.edges, graph.joint_types, roles, loops))
     return graphs
 
 

@@ -183,6 +183,70 @@ class LabelledChain:
             graph.graph.get("named_loops"),
         )
 
+    def to_dict(self) -> dict:
+        """Plain data: ``{"links": [{"id", "roles"}], "joints": [{"links", "type"}], "loops"}``.
+
+        >>> LabelledChain.build(3, [(0, 1), (1, 2), (0, 2)], roles={0: {"ground"}}).to_dict()["links"][0]
+        {'id': 0, 'roles': ['ground']}
+        """
+        data = {
+            "links": [{"id": v, "roles": sorted(self.roles[v])} for v in range(self.n)],
+            "joints": [{"links": [u, v], "type": t} for (u, v), t in zip(self.edges, self.joint_types)],
+        }
+        if self.named_loops:
+            data["loops"] = {name: list(links) for name, links in self.named_loops}
+        return data
+
+    @classmethod
+    def from_dict(cls, data: object, where: str = "labelled chain") -> "LabelledChain":
+        """Inverse of :meth:`to_dict`; also the compact form ``{"links": n, "joints": [[u, v(, type)]],
+        "roles": {link: [names]}, "loops": {name: [links]}}``. Errors say where.
+
+        >>> LabelledChain.from_dict({"links": 3, "joints": [[0, 1, "P"], [1, 2], [0, 2]]}).joint_types
+        ('P', 'R', 'R')
+        """
+        if not isinstance(data, dict):
+            raise DomesError(f"{where}: expected an object with links and joints")
+        unknown = set(data) - {"links", "joints", "roles", "loops", "id", "existing", "existing_designs", "chain"}
+        if unknown:
+            raise DomesError(f"{where}: unknown field(s) {', '.join(sorted(unknown))}")
+        links, joints = data.get("links"), data.get("joints")
+        roles = dict(data.get("roles") or {})
+        if isinstance(links, list):
+            try:
+                roles = {int(item["id"]): item.get("roles", []) for item in links}
+            except (TypeError, KeyError, ValueError):
+                raise DomesError(f"{where}: each link must be an object with an 'id' and optional 'roles'") from None
+            n = len(links)
+        elif isinstance(links, int):
+            n = links
+        else:
+            raise DomesError(f"{where}: 'links' must be a number or a list of links")
+        if not isinstance(joints, list):
+            raise DomesError(f"{where}: 'joints' must be a list")
+        edges, types = [], []
+        for j in joints:
+            pair, kind = None, "R"
+            if isinstance(j, dict):
+                pair, kind = j.get("links"), j.get("type", "R")
+            elif isinstance(j, list) and len(j) in (2, 3):
+                pair, kind = j[:2], (j[2] if len(j) == 3 else "R")
+            if not (isinstance(pair, list) and len(pair) == 2 and all(isinstance(x, int) for x in pair)):
+                raise DomesError(f"{where}: joint {j!r} is not [u, v], [u, v, type] or {{'links': [u, v], 'type': T}}")
+            edges.append(tuple(pair))
+            types.append(kind)
+        try:
+            role_map = {int(v): [str(r) for r in names] for v, names in roles.items()}
+        except (TypeError, ValueError):
+            raise DomesError(f"{where}: 'roles' must map a link number to a list of role names") from None
+        loops = data.get("loops") or {}
+        if not isinstance(loops, dict):
+            raise DomesError(f"{where}: 'loops' must map a loop name to its links in order")
+        try:
+            return cls.build(n, edges, types, role_map, loops)
+        except DomesError as exc:
+            raise DomesError(f"{where}: {exc}") from None
+
     # -- identity --------------------------------------------------------------
 
     @cached_property

@@ -59,14 +59,12 @@ class Candidate:
     existing: tuple[str, ...]  # names of the existing designs it equals
 
     def as_dict(self) -> dict:
-        m = self.mechanism
         return {
             "id": self.id,
             "existing": bool(self.existing),
             "existing_designs": list(self.existing),
             "chain": self.chain_index,
-            "links": [{"id": v, "roles": sorted(m.roles[v])} for v in range(m.n)],
-            "joints": [{"links": [u, v], "type": t} for (u, v), t in zip(m.edges, m.joint_types)],
+            **self.mechanism.to_dict(),
         }
 
 

@@ -157,3 +157,13 @@ def test_labelled_chain_certificate_sees_roles_and_types():
     b = LabelledChain.build(4, square, {(2, 3): "P"}, {3: {"ground"}})
     c = LabelledChain.build(4, square, {(1, 2): "P"}, {0: {"ground"}})
     assert a == b and a != c
+
+
+def test_labelled_chain_plain_data_round_trip():
+    chain = LabelledChain.build(
+        4, [(0, 1), (1, 2), (2, 3), (3, 0)], {(2, 3): "P"}, {0: {"ground"}, 1: {"input"}}, {"drive": [0, 1, 2, 3]}
+    )
+    again = LabelledChain.from_dict(chain.to_dict())
+    assert again == chain and again.named_loops == chain.named_loops
+    with pytest.raises(DomesError, match="graph 3: joint"):
+        LabelledChain.from_dict({"links": 3, "joints": [[0, 1, 2, 3]]}, "graph 3")

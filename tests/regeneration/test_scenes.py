@@ -133,3 +133,14 @@ def test_distance_two_reading_of_the_radial_rule():
         (a,), (b,) = m.links_with_role("tile_a"), m.links_with_role("tile_b")
         assert holds(rule, m) == (nx.shortest_path_length(m.to_networkx(), a, b) == 2)
     assert any(holds(rule, c.mechanism) for c in result.candidates if c.existing)
+
+
+def test_regenerate_output_feeds_the_screening_stage(tmp_path, capsys):
+    # Data flows one way: the JSON of `domes regenerate` is the input of `domes kb screen`.
+    assert main(["regenerate", "tyre-drum", "--format", "json"]) == 0
+    (tmp_path / "drums.json").write_text(capsys.readouterr().out)
+    problem = '{"dof": 1, "names": ["ground", "input", "tile A", "tile B"]}'
+    assert main(["kb", "screen", str(tmp_path / "drums.json"), "--problem", problem, "--format", "json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert "tiles-radial" in out["applied"]
+    assert len(out["kept"]) == 35  # the distance-2 reading of F1 keeps 35 of the 41
