@@ -8,7 +8,7 @@ reads and writes; opening a database of another version is refused with a
 message (see :func:`domes.knowledge.store.open_engine`).
 
 >>> sorted(Base.metadata.tables)
-['criteria', 'schema_version']
+['criteria', 'problems', 'schema_version']
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from sqlalchemy import JSON, Boolean, Integer, String, Text
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 
 #: Schema version of each component of the case base.
-SCHEMA_VERSIONS: dict[str, int] = {"knowledge": 1}
+SCHEMA_VERSIONS: dict[str, int] = {"knowledge": 1, "cases": 1}
 
 
 class Base(DeclarativeBase):
@@ -66,3 +66,17 @@ class CriterionRow(Base):
 
     def record(self) -> dict[str, Any]:
         return {c: getattr(self, c) for c in self.FRAME_COLUMNS}
+
+
+class ProblemRow(Base):
+    """A solved-problem frame (Table 7-1): its class for retrieval, the whole frame as JSON.
+
+    ``number`` orders the case base in the order problems were solved.
+    """
+
+    __tablename__ = "problems"
+
+    id: Mapped[str] = mapped_column(String(64), primary_key=True)
+    number: Mapped[int] = mapped_column(Integer, unique=True)
+    problem_class: Mapped[str] = mapped_column(String(128), index=True)
+    frame: Mapped[dict[str, Any]] = mapped_column(JSON)

@@ -24,6 +24,7 @@ import tomllib
 
 from domes.errors import DomesError
 from domes.knowledge.frames import CriterionFrame
+from domes.knowledge.problems import ProblemFrame
 
 FORMATS = ("toml", "json")
 
@@ -109,6 +110,29 @@ def read_knowledge(directory: str | Path) -> list[CriterionFrame]:
                 raise DomesError(f"{path}: criterion id {frame.id!r} is also defined in {owner[frame.id]}")
             owner[frame.id] = path
             frames.append(frame)
+    return frames
+
+
+def read_cases(directory: str | Path) -> list[ProblemFrame]:
+    """The solved-problem frames of ``directory/cases/*.json`` (each a design transcript with a
+    ``frame``), files in name order; no cases folder means no cases."""
+    folder = Path(directory) / "cases"
+    frames: list[ProblemFrame] = []
+    owner: dict[str, Path] = {}
+    for path in sorted(folder.glob("*.json")) if folder.is_dir() else []:
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError) as exc:
+            raise DomesError(f"{path}: cannot read: {exc}") from None
+        except json.JSONDecodeError as exc:
+            raise DomesError(f"{path}: not valid JSON: {exc}") from None
+        if not isinstance(data, dict) or "frame" not in data:
+            raise DomesError(f"{path}: a case is a design transcript with a 'frame' (see docs/expert.md)")
+        frame = ProblemFrame.from_mapping(data["frame"], f"{path}: frame")
+        if frame.id in owner:
+            raise DomesError(f"{path}: case id {frame.id!r} is also used by {owner[frame.id]}")
+        owner[frame.id] = path
+        frames.append(frame)
     return frames
 
 

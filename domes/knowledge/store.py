@@ -33,8 +33,9 @@ from sqlalchemy.orm import Session
 
 from domes.errors import DomesError
 from domes.knowledge.frames import CriterionFrame
-from domes.knowledge.models import SCHEMA_VERSIONS, Base, CriterionRow, SchemaVersion
-from domes.knowledge.sources import check_unique, read_knowledge
+from domes.knowledge.models import SCHEMA_VERSIONS, Base, CriterionRow, ProblemRow, SchemaVersion
+from domes.knowledge.problems import ProblemFrame
+from domes.knowledge.sources import check_unique, read_cases, read_knowledge
 from domes.paths import knowledge_dir, repo_root
 
 DB_ENV = "DOMES_DB"
@@ -193,6 +194,55 @@ class KnowledgeBase:
         with Session(self.engine) as session, session.begin():
             session.delete(self._row(session, criterion_id))
 
+    # -- solved-problem frames (Table 7-1) -----------------------------------------------
+
+    def problems(self, problem_class: str | None = None) -> list[ProblemFrame]:
+        """Every stored problem frame (of one class, if given), in the order they were solved."""
+        with Session(self.engine) as session:
+            query = select(ProblemRow).order_by(ProblemRow.number)
+            if problem_class is not None:
+                query = query.where(ProblemRow.problem_class == problem_class)
+            return [self._problem(row) for row in session.scalars(query)]
+
+    def get_problem(self, problem_id: str) -> ProblemFrame:
+        with Session(self.engine) as session:
+            row = session.get(ProblemRow, problem_id)
+            if row is None:
+                raise DomesError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
+            return self._problem(row)
+
+    @staticmethod
+    def _problem(row: ProblemRow) -> ProblemFrame:
+        try:
+            return ProblemFrame.from_mapping(row.frame)
+        except DomesError as exc:
+            raise DomesError(f"stored case {row.id!r} is damaged: {exc}; rebuild with `domes kb build`") from None
+
+    @staticmethod
+    def _insert_problems(session: Session, frames: list[ProblemFrame], replace: bool = False) -> None:
+        number = session.scalar(select(func.max(ProblemRow.number))) or 0
+        for frame in frames:
+            row = session.get(ProblemRow, frame.id)
+            if row is not None and not replace:
+                raise DomesError(f"a case with id {frame.id!r} is already in the case base")
+            if row is None:
+                number += 1
+                session.add(ProblemRow(id=frame.id, number=number, problem_class=frame.problem_class, frame=frame.to_mapping()))
+            else:
+                row.problem_class, row.frame = frame.problem_class, frame.to_mapping()
+
+    def retain(self, frame: ProblemFrame, replace: bool = False) -> None:
+        """Store a solved problem (one transaction); an existing id is refused unless ``replace``."""
+        with Session(self.engine) as session, session.begin():
+            self._insert_problems(session, [frame], replace)
+
+    def remove_problem(self, problem_id: str) -> None:
+        with Session(self.engine) as session, session.begin():
+            row = session.get(ProblemRow, problem_id)
+            if row is None:
+                raise DomesError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
+            session.delete(row)
+
 
 def build(source: str | Path | None = None, url: str | None = None) -> list[CriterionFrame]:
     """Build the case base from the knowledge sources; returns the frames stored.
@@ -202,7 +252,9 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
     one is complete); another database has its tables dropped and made
     anew in one transaction.
     """
-    frames = read_knowledge(knowledge_dir(source))
+    folder = knowledge_dir(source)
+    frames = read_knowledge(folder)
+    cases = read_cases(folder)
     url = database_url(url)
     path = sqlite_path(url)
     if path is None:
@@ -214,6 +266,7 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
                 conn.execute(SchemaVersion.__table__.insert(), [{"component": c, "version": v} for c, v in SCHEMA_VERSIONS.items()])
                 with Session(bind=conn) as session:
                     KnowledgeBase._insert(session, frames)
+                    KnowledgeBase._insert_problems(session, cases)
                     session.flush()
         except SQLAlchemyError as exc:
             raise DomesError(f"cannot build the case base {url}: {exc}") from None
@@ -229,6 +282,8 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
         kb = KnowledgeBase(f"sqlite:///{tmp}", create=True)
         try:
             kb.import_frames(frames)
+            with Session(kb.engine) as session, session.begin():
+                KnowledgeBase._insert_problems(session, cases)
         finally:
             kb.close()
         os.replace(tmp, path)

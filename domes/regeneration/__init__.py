@@ -6,10 +6,11 @@
 """
 
 from domes.regeneration.scene import Scene, Stage, load_scene, parse_scene, scene_names
-from domes.regeneration.specialize import Candidate, Regeneration, StageResult, particularize, regenerate
+from domes.regeneration.specialize import Candidate, EmptyStage, Regeneration, StageResult, particularize, regenerate
 
 __all__ = [
     "Candidate",
+    "EmptyStage",
     "Regeneration",
     "Scene",
     "Stage",

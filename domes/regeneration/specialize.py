@@ -34,6 +34,10 @@ from domes.labelled.graph import LabelledChain
 from domes.regeneration.scene import Scene, Stage
 
 
+class EmptyStage(DomesError):
+    """A stage whose rules leave no choice on any chain (its rules cannot hold there)."""
+
+
 @dataclass(frozen=True)
 class StageResult:
     """Counts after one stage: non-isomorphic, and raw (numbered links, ``S_i``)."""
@@ -172,7 +176,7 @@ def regenerate(scene: Scene, progress: Callable[[str], None] | None = None) -> R
                     seen.add(child.certificate)
                     following.append((child, index, group_order))
         if not following and current and not stage.is_screen:
-            raise DomesError(
+            raise EmptyStage(
                 f"{scene.path}:{stage.line}: stage {number + 1} ({stage.name}): its rules cannot hold: "
                 f"no link of any of the {len(current)} chains so far can be given the role {stage.role!r}"
             )
