@@ -22,6 +22,7 @@ from domes.errors import DomesError
 SUBCOMMAND_MODULES = (
     "domes.synthesis.cli",
     "domes.chains.cli",
+    "domes.sketch.cli",
 )
 
 

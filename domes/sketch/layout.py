@@ -1,0 +1,362 @@
+"""Where the joints of a chain go: the skeleton layout (DOMES module 8, §7-2; §5-3 drawing).
+
+A mechanism skeleton places *joints* (the chain graph's edges) at points;
+a binary link is the bar between its two joints and a link of three or
+more joints is the plate (polygon) through them. For a planar chain the
+layout is a planar straight-line drawing of the chain's *medial graph*:
+
+1. take a planar embedding of the chain graph (links as vertices) and its
+   faces (the loops of the drawing);
+2. build the medial graph ``H``: one vertex per joint; a plate's joints are
+   joined in their cyclic order around the link, a bar's two joints by the
+   bar. The faces of ``H`` are the plates and the loops;
+3. put the joints of the largest loop (the book's *main loop*, §5-3) on a
+   circle, add a centre vertex inside every other face of ``H`` joined to
+   the face's joints (so the disc is triangulated), and place every other
+   vertex at the weighted average of its neighbours (Tutte's barycentric
+   embedding; by Tutte's and Floater's theorem it is a planar straight-line
+   drawing for any positive weights and a strictly convex outer polygon);
+4. reweight a few times, weight ∝ current length, to even out the link
+   sizes (still planar by the same theorem).
+
+Plates and bars are then faces and edges of one planar drawing: no two links
+cross or overlap except at their shared joints. A non-planar chain is drawn
+from a planar part: the fewest branches (paths of binary links between
+multi-joint links, or direct joints) are taken out, the rest is laid out as
+above, and the branches are drawn back as straight bars between pins placed
+inside their end plates; those branches cross other links.
+
+>>> from domes.chains import Chain
+>>> layout = skeleton_layout(Chain.from_graph6("Cr"))     # the four-bar
+>>> layout.planar, len(layout.positions), layout.link_rings
+(True, 4, ((0, 1), (0, 2), (1, 3), (2, 3)))
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from itertools import combinations
+from typing import Mapping, Sequence
+
+import networkx as nx
+import numpy as np
+
+from domes.errors import DomesError
+
+Edge = tuple[int, int]
+Point = tuple[float, float]
+
+#: Reweighting rounds that even out link sizes (0 gives the plain Tutte drawing).
+EQUALIZE_ROUNDS = 8
+#: Weight of a face-centre spoke relative to a link side (lower lets faces open up).
+SPOKE_WEIGHT = 0.25
+
+
+@dataclass(frozen=True)
+class SkeletonLayout:
+    """Joint positions of a chain drawing and how each link is drawn through them.
+
+    ``joints[k]`` is the link pair of joint ``k`` (sorted, as in the chain),
+    ``positions[k]`` its point. ``link_rings[v]`` lists the joints of link
+    ``v`` in the order its plate outline visits them (two for a bar); joints
+    of ``v`` not on the ring (pins inside a plate, only in non-planar
+    drawings) are in ``link_pins[v]``. ``link_centres[v]`` is a point inside
+    link ``v`` (for labels and the abstract-graph view). ``crossing_links``
+    names the links drawn across others (empty for a planar chain).
+    """
+
+    n: int
+    joints: tuple[Edge, ...]
+    positions: tuple[Point, ...]
+    link_rings: tuple[tuple[int, ...], ...]
+    link_pins: tuple[tuple[int, ...], ...]
+    link_centres: tuple[Point, ...]
+    planar: bool
+    crossing_links: tuple[int, ...] = ()
+
+    def joint_index(self, u: int, v: int) -> int:
+        """Index of the joint between links ``u`` and ``v``."""
+        return self.joints.index((min(u, v), max(u, v)))
+
+    def link_lengths(self) -> tuple[float, ...]:
+        """Size of each link: a bar's length, a plate's mean side."""
+        sizes = []
+        for ring in self.link_rings:
+            pts = [self.positions[k] for k in ring]
+            if len(pts) == 2:
+                sizes.append(math.dist(*pts))
+            else:
+                sides = [math.dist(pts[i], pts[i - 1]) for i in range(len(pts))]
+                sizes.append(sum(sides) / len(sides))
+        return tuple(sizes)
+
+
+def _checked_edges(n: int, edges: Sequence[Edge]) -> tuple[Edge, ...]:
+    joints = tuple(sorted((min(u, v), max(u, v)) for u, v in edges))
+    graph = nx.Graph(joints)
+    graph.add_nodes_from(range(n))
+    if n < 2 or not nx.is_connected(graph):
+        raise DomesError(f"cannot draw a chain of {n} links that is not connected")
+    low = [v for v in range(n) if graph.degree(v) < 2]
+    if low:
+        raise DomesError(f"cannot draw link(s) {low}: every link of a chain needs at least two joints")
+    if nx.has_bridges(graph):
+        bridge = next(nx.bridges(graph))
+        raise DomesError(
+            f"cannot draw joint {bridge[0]}-{bridge[1]}: it is in no loop (a bridge, as in some fractionated "
+            "chains of DOF 3 or more); such chains are not drawn"
+        )
+    return joints
+
+
+def skeleton_layout(chain, *, equalize: int = EQUALIZE_ROUNDS) -> SkeletonLayout:
+    """The joint layout of a chain (a ``Chain``, ``LabelledChain`` or anything with ``n`` and ``edges``).
+
+    Deterministic: the same chain (same link numbering) gives the same layout.
+
+    >>> from domes.chains import chains
+    >>> watt = chains(links=6, dof=1)[0]
+    >>> layout = skeleton_layout(watt)
+    >>> sorted(len(ring) for ring in layout.link_rings)
+    [2, 2, 2, 2, 3, 3]
+    """
+    n = int(chain.n)
+    joints = _checked_edges(n, chain.edges)
+    graph = nx.Graph(joints)
+    planar, embedding = nx.check_planarity(graph)
+    if planar:
+        return _planar_layout(n, joints, embedding, equalize)
+    return _nonplanar_layout(n, joints, graph, equalize)
+
+
+# -- planar chains ---------------------------------------------------------------
+
+
+def _faces(embedding: nx.PlanarEmbedding) -> list[list[Edge]]:
+    """Faces as lists of half-edges, in a deterministic order."""
+    seen: set[Edge] = set()
+    faces = []
+    for v in sorted(embedding.nodes):
+        for w in embedding.neighbors_cw_order(v):
+            if (v, w) in seen:
+                continue
+            face, half = [], (v, w)
+            while half not in seen:
+                seen.add(half)
+                face.append(half)
+                half = embedding.next_face_half_edge(*half)
+            faces.append(face)
+    return faces
+
+
+def _planar_layout(n: int, joints: tuple[Edge, ...], embedding: nx.PlanarEmbedding, equalize: int) -> SkeletonLayout:
+    index = {e: k for k, e in enumerate(joints)}
+
+    def joint(u: int, v: int) -> int:
+        return index[(min(u, v), max(u, v))]
+
+    rings = []
+    for v in range(n):
+        around = list(embedding.neighbors_cw_order(v))
+        start = around.index(min(around))
+        rings.append(tuple(joint(v, w) for w in around[start:] + around[:start]))
+    loops = [[joint(u, w) for u, w in face] for face in _faces(embedding)]
+    plates = [ring for ring in rings if len(ring) >= 3]
+    sides = sorted({(min(a, b), max(a, b)) for ring in rings for a, b in zip(ring, ring[1:] + ring[:1]) if a != b})
+    best = None
+    for outer in range(len(loops)):
+        inner = plates + [f for i, f in enumerate(loops) if i != outer]
+        positions, centres = _tutte(len(joints), sides, loops[outer], inner, equalize)
+        link_centres = []
+        plate_centres = iter(centres[: len(plates)])
+        for ring in rings:
+            if len(ring) >= 3:
+                link_centres.append(next(plate_centres))
+            else:
+                link_centres.append(_midpoint(positions[ring[0]], positions[ring[1]]))
+        layout = SkeletonLayout(
+            n, joints, tuple(positions), tuple(rings), tuple(() for _ in range(n)), tuple(link_centres), True
+        )
+        score = layout_quality(layout)
+        if best is None or score[0] / score[1] > best[0]:
+            best = (score[0] / score[1], layout)
+    return best[1]
+
+
+def layout_quality(layout: SkeletonLayout) -> tuple[float, float]:
+    """``(closest joints / median link size, largest / smallest link size)`` of a layout.
+
+    The first should be large, the second near 1. For every loop of a planar
+    chain tried as the outer one, the layout with the best ratio of the two
+    is kept.
+    """
+    sizes = sorted(layout.link_lengths())
+    median = float(np.median(sizes))
+    pts = np.array(layout.positions)
+    gaps = np.hypot(*(pts[:, None, :] - pts[None, :, :]).transpose(2, 0, 1))
+    closest = float(gaps[np.triu_indices(len(pts), 1)].min()) if len(pts) > 1 else median
+    return closest / median, sizes[-1] / max(sizes[0], 1e-12)
+
+
+def _tutte(
+    count: int, sides: list[Edge], outer: list[int], faces: list[tuple[int, ...] | list[int]], equalize: int
+) -> tuple[list[Point], list[Point]]:
+    """Barycentric embedding of the joints plus one centre per face; returns (joints, centres)."""
+    total = count + len(faces)
+    springs: list[tuple[int, int, float]] = [(a, b, 1.0) for a, b in sides]
+    for f, face in enumerate(faces):
+        springs.extend((count + f, k, SPOKE_WEIGHT) for k in face)
+    fixed = np.zeros((total, 2))
+    for i, k in enumerate(outer):
+        angle = math.pi / 2 + 2 * math.pi * i / len(outer)
+        fixed[k] = (math.cos(angle), math.sin(angle))
+    free = [k for k in range(total) if k not in set(outer)]
+    slot = {k: i for i, k in enumerate(free)}
+    weights = np.array([w for _, _, w in springs])
+    xy = fixed
+    for round_ in range(equalize + 1):
+        matrix = np.zeros((len(free), len(free)))
+        rhs = np.zeros((len(free), 2))
+        for (a, b, _), w in zip(springs, weights):
+            for p, q in ((a, b), (b, a)):
+                if p in slot:
+                    matrix[slot[p], slot[p]] += w
+                    if q in slot:
+                        matrix[slot[p], slot[q]] -= w
+                    else:
+                        rhs[slot[p]] += w * fixed[q]
+        xy = fixed.copy()
+        if free:
+            xy[free] = np.linalg.solve(matrix, rhs)
+        if round_ < equalize:
+            lengths = np.array([np.hypot(*(xy[a] - xy[b])) for a, b, _ in springs])
+            base = np.array([w for _, _, w in springs])
+            weights = base * np.clip(lengths / np.median(lengths[: len(sides)]), 0.2, 5.0)
+    points = [(float(x), float(y)) for x, y in xy]
+    return points[:count], points[count:]
+
+
+def _midpoint(p: Point, q: Point) -> Point:
+    return ((p[0] + q[0]) / 2, (p[1] + q[1]) / 2)
+
+
+# -- non-planar chains -----------------------------------------------------------
+
+
+def _branches(graph: nx.Graph) -> list[tuple[int, ...]]:
+    """Paths ``end, binary..., end`` between links of 3+ joints (the contracted graph's edges)."""
+    multi = sorted(v for v in graph if graph.degree(v) >= 3)
+    found, seen = [], set()
+    for start in multi:
+        for first in sorted(graph[start]):
+            path = [start, first]
+            while graph.degree(path[-1]) == 2:
+                path.append(next(w for w in sorted(graph[path[-1]]) if w != path[-2]))
+            key = (min(path[0], path[-1]), max(path[0], path[-1]), tuple(sorted(path[1:-1])))
+            if key not in seen:
+                seen.add(key)
+                found.append(tuple(path))
+    return found
+
+
+def _nonplanar_layout(n: int, joints: tuple[Edge, ...], graph: nx.Graph, equalize: int) -> SkeletonLayout:
+    branches = _branches(graph)
+    for size in range(1, len(branches) + 1):
+        for chosen in combinations(branches, size):
+            rest = graph.copy()
+            for path in chosen:
+                rest.remove_edges_from(zip(path, path[1:]))
+                rest.remove_nodes_from(path[1:-1])
+            if (
+                nx.is_connected(rest)
+                and min(d for _, d in rest.degree) >= 2
+                and not nx.has_bridges(rest)
+                and nx.check_planarity(rest)[0]
+            ):
+                return _with_branches(n, joints, rest, chosen, equalize)
+    raise DomesError(f"no planar part found to draw the chain with joints {list(joints)}")
+
+
+def _with_branches(
+    n: int, joints: tuple[Edge, ...], rest: nx.Graph, chosen: Sequence[tuple[int, ...]], equalize: int
+) -> SkeletonLayout:
+    """Lay out the planar part, then draw the chosen branches across it as straight bars."""
+    kept = sorted(rest.nodes)
+    renumber = {v: i for i, v in enumerate(kept)}
+    part_joints = tuple(sorted((min(renumber[u], renumber[v]), max(renumber[u], renumber[v])) for u, v in rest.edges))
+    part = _planar_layout(len(kept), part_joints, nx.check_planarity(nx.Graph(part_joints))[1], equalize)
+    index = {e: k for k, e in enumerate(joints)}
+    positions: dict[int, Point] = {}
+    rings: dict[int, tuple[int, ...]] = {}
+    centres: dict[int, Point] = {}
+    for old in kept:
+        new = renumber[old]
+        rings[old] = tuple(index[tuple(sorted((kept[a], kept[b])))] for a, b in (part.joints[k] for k in part.link_rings[new]))
+        centres[old] = part.link_centres[new]
+        for k in part.link_rings[new]:
+            a, b = part.joints[k]
+            positions[index[tuple(sorted((kept[a], kept[b])))]] = part.positions[k]
+    pins: dict[int, list[int]] = {v: [] for v in range(n)}
+    ring_owner = {}
+    for path in chosen:
+        start, end = centres[path[0]], centres[path[-1]]
+        steps = len(path) - 1
+        for i, (u, v) in enumerate(zip(path, path[1:])):
+            t = i / (steps - 1) if steps > 1 else 0.5
+            k = index[(min(u, v), max(u, v))]
+            positions[k] = (start[0] + t * (end[0] - start[0]), start[1] + t * (end[1] - start[1]))
+            for link in (u, v):
+                if link in rings:
+                    pins[link].append(k)
+                else:
+                    ring_owner.setdefault(link, []).append(k)
+    for link, ks in ring_owner.items():
+        rings[link] = tuple(ks)
+        centres[link] = _midpoint(positions[ks[0]], positions[ks[1]])
+    crossing = sorted({v for path in chosen for v in (path if len(path) == 2 else path[1:-1])})
+    return SkeletonLayout(
+        n,
+        joints,
+        tuple(positions[k] for k in range(len(joints))),
+        tuple(rings[v] for v in range(n)),
+        tuple(tuple(pins[v]) for v in range(n)),
+        tuple(centres[v] for v in range(n)),
+        False,
+        tuple(crossing),
+    )
+
+
+# -- layouts from given joint positions (kinematics, hand-made drawings) ----------
+
+
+def layout_from_positions(chain, positions: Mapping[Edge, Point]) -> SkeletonLayout:
+    """A layout with the joints at given points (for example a kinematic solution).
+
+    Each plate's outline visits its joints in angular order about their
+    centroid. No planarity is implied: the positions decide.
+
+    >>> from domes.chains import Chain
+    >>> square = {(0, 1): (0, 0), (1, 2): (1, 0), (2, 3): (1, 1), (0, 3): (0, 1)}
+    >>> layout_from_positions(Chain(4, ((0, 1), (1, 2), (2, 3), (0, 3))), square).link_lengths()
+    (1.0, 1.0, 1.0, 1.0)
+    """
+    n = int(chain.n)
+    joints = _checked_edges(n, chain.edges)
+    given = {(min(u, v), max(u, v)): (float(p[0]), float(p[1])) for (u, v), p in positions.items()}
+    missing = [e for e in joints if e not in given]
+    if missing:
+        raise DomesError(f"no position given for joint(s) {missing}")
+    extra = sorted(set(given) - set(joints))
+    if extra:
+        raise DomesError(f"position(s) given for {extra}, which are not joints of the chain")
+    points = tuple(given[e] for e in joints)
+    rings, centres = [], []
+    for v in range(n):
+        mine = [k for k, e in enumerate(joints) if v in e]
+        cx = sum(points[k][0] for k in mine) / len(mine)
+        cy = sum(points[k][1] for k in mine) / len(mine)
+        mine.sort(key=lambda k: (math.atan2(points[k][1] - cy, points[k][0] - cx), k))
+        rings.append(tuple(mine))
+        centres.append((cx, cy))
+    return SkeletonLayout(n, joints, points, tuple(rings), tuple(() for _ in range(n)), tuple(centres), True)
