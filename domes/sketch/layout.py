@@ -51,6 +51,10 @@ Point = tuple[float, float]
 EQUALIZE_ROUNDS = 8
 #: Weight of a face-centre spoke relative to a link side (lower lets faces open up).
 SPOKE_WEIGHT = 0.25
+#: Rounds of planarity-keeping refinement of the chosen drawing (0: none).
+REFINE_ROUNDS = 100
+#: Joints closer than this fraction of the median side are pushed apart while refining.
+REPEL = 0.6
 
 
 @dataclass(frozen=True)
@@ -110,7 +114,7 @@ def _checked_edges(n: int, edges: Sequence[Edge]) -> tuple[Edge, ...]:
     return joints
 
 
-def skeleton_layout(chain, *, equalize: int = EQUALIZE_ROUNDS) -> SkeletonLayout:
+def skeleton_layout(chain, *, equalize: int = EQUALIZE_ROUNDS, refine: int = REFINE_ROUNDS) -> SkeletonLayout:
     """The joint layout of a chain (a ``Chain``, ``LabelledChain`` or anything with ``n`` and ``edges``).
 
     Deterministic: the same chain (same link numbering) gives the same layout.
@@ -126,8 +130,8 @@ def skeleton_layout(chain, *, equalize: int = EQUALIZE_ROUNDS) -> SkeletonLayout
     graph = nx.Graph(joints)
     planar, embedding = nx.check_planarity(graph)
     if planar:
-        return _planar_layout(n, joints, embedding, equalize)
-    return _nonplanar_layout(n, joints, graph, equalize)
+        return _planar_layout(n, joints, embedding, equalize, refine)
+    return _nonplanar_layout(n, joints, graph, equalize, refine)
 
 
 # -- planar chains ---------------------------------------------------------------
@@ -150,7 +154,7 @@ def _faces(embedding: nx.PlanarEmbedding) -> list[list[Edge]]:
     return faces
 
 
-def _planar_layout(n: int, joints: tuple[Edge, ...], embedding: nx.PlanarEmbedding, equalize: int) -> SkeletonLayout:
+def _planar_layout(n: int, joints: tuple[Edge, ...], embedding: nx.PlanarEmbedding, equalize: int, refine: int) -> SkeletonLayout:
     index = {e: k for k, e in enumerate(joints)}
 
     def joint(u: int, v: int) -> int:
@@ -167,21 +171,77 @@ def _planar_layout(n: int, joints: tuple[Edge, ...], embedding: nx.PlanarEmbeddi
     best = None
     for outer in range(len(loops)):
         inner = plates + [f for i, f in enumerate(loops) if i != outer]
-        positions, centres = _tutte(len(joints), sides, loops[outer], inner, equalize)
-        link_centres = []
-        plate_centres = iter(centres[: len(plates)])
-        for ring in rings:
-            if len(ring) >= 3:
-                link_centres.append(next(plate_centres))
-            else:
-                link_centres.append(_midpoint(positions[ring[0]], positions[ring[1]]))
-        layout = SkeletonLayout(
-            n, joints, tuple(positions), tuple(rings), tuple(() for _ in range(n)), tuple(link_centres), True
-        )
-        score = layout_quality(layout)
-        if best is None or score[0] / score[1] > best[0]:
-            best = (score[0] / score[1], layout)
-    return best[1]
+        xy = _tutte(len(joints), sides, loops[outer], inner, equalize)
+        layout = _assemble(n, joints, rings, xy)
+        closest, spread = layout_quality(layout)
+        if best is None or closest / spread > best[0]:
+            best = (closest / spread, layout, xy, loops[outer], inner)
+    _, layout, xy, outer_loop, inner = best
+    if refine:
+        layout = _assemble(n, joints, rings, _refine(xy, len(joints), sides, outer_loop, inner, refine))
+    return layout
+
+
+def _assemble(n: int, joints: tuple[Edge, ...], rings: list[tuple[int, ...]], xy: np.ndarray) -> SkeletonLayout:
+    """The layout from the positions of the joints and then of the face centres (plates first)."""
+    points = [(float(x), float(y)) for x, y in xy]
+    positions = points[: len(joints)]
+    plate_centres = iter(points[len(joints) :])
+    link_centres = [next(plate_centres) if len(ring) >= 3 else _midpoint(positions[ring[0]], positions[ring[1]]) for ring in rings]
+    return SkeletonLayout(n, joints, tuple(positions), tuple(rings), tuple(() for _ in range(n)), tuple(link_centres), True)
+
+
+def _refine(xy: np.ndarray, count: int, sides: list[Edge], outer: list[int], faces: list, rounds: int) -> np.ndarray:
+    """Even out link sides and spread close joints, never turning a triangle of the disc over.
+
+    Each round moves every free vertex towards where its sides would have
+    the median length and away from joints closer than half of it (face
+    centres towards their face's centroid). A move that would flip or
+    flatten one of the triangles (face centre, joint, next joint) is taken
+    back, so the drawing stays a planar straight-line drawing.
+    """
+    tri = np.array([(count + f, face[i - 1], face[i]) for f, face in enumerate(faces) for i in range(len(face))])
+    side = np.array(sides)
+    free = np.ones(len(xy), dtype=bool)
+    free[outer] = False
+
+    def areas(p: np.ndarray) -> np.ndarray:
+        a, b, c = p[tri[:, 0]], p[tri[:, 1]], p[tri[:, 2]]
+        return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+    sign = np.sign(areas(xy))
+    joint_pairs = np.array(list(combinations(range(count), 2)))
+    for _ in range(rounds):
+        d = xy[side[:, 0]] - xy[side[:, 1]]
+        length = np.hypot(d[:, 0], d[:, 1])
+        target = float(np.median(length))
+        move = np.zeros_like(xy)
+        weight = np.zeros(len(xy))
+        pull = (0.5 * (target - length) / length)[:, None] * d
+        np.add.at(move, side[:, 0], pull)
+        np.add.at(move, side[:, 1], -pull)
+        np.add.at(weight, side.ravel(), 1.0)
+        d = xy[joint_pairs[:, 0]] - xy[joint_pairs[:, 1]]
+        gap = np.hypot(d[:, 0], d[:, 1])
+        near = gap < REPEL * target
+        push = (0.5 * (REPEL * target - gap[near]) / np.maximum(gap[near], 1e-12))[:, None] * d[near]
+        np.add.at(move, joint_pairs[near, 0], push)
+        np.add.at(move, joint_pairs[near, 1], -push)
+        for f, face in enumerate(faces):
+            move[count + f] = xy[list(face)].mean(axis=0) - xy[count + f]
+            weight[count + f] = 1.0
+        move /= np.maximum(weight, 1.0)[:, None]
+        move[~free] = 0.0
+        new = xy + move
+        floor = 1e-3 * target * target
+        for _ in range(len(xy)):
+            bad = sign * areas(new) < floor
+            if not bad.any():
+                break
+            back = np.unique(tri[bad].ravel())
+            new[back] = xy[back]
+        xy = new
+    return xy
 
 
 def layout_quality(layout: SkeletonLayout) -> tuple[float, float]:
@@ -201,8 +261,8 @@ def layout_quality(layout: SkeletonLayout) -> tuple[float, float]:
 
 def _tutte(
     count: int, sides: list[Edge], outer: list[int], faces: list[tuple[int, ...] | list[int]], equalize: int
-) -> tuple[list[Point], list[Point]]:
-    """Barycentric embedding of the joints plus one centre per face; returns (joints, centres)."""
+) -> np.ndarray:
+    """Barycentric embedding of the joints, then one centre per face: their positions, in that order."""
     total = count + len(faces)
     springs: list[tuple[int, int, float]] = [(a, b, 1.0) for a, b in sides]
     for f, face in enumerate(faces):
@@ -233,8 +293,7 @@ def _tutte(
             lengths = np.array([np.hypot(*(xy[a] - xy[b])) for a, b, _ in springs])
             base = np.array([w for _, _, w in springs])
             weights = base * np.clip(lengths / np.median(lengths[: len(sides)]), 0.2, 5.0)
-    points = [(float(x), float(y)) for x, y in xy]
-    return points[:count], points[count:]
+    return xy
 
 
 def _midpoint(p: Point, q: Point) -> Point:
@@ -260,7 +319,7 @@ def _branches(graph: nx.Graph) -> list[tuple[int, ...]]:
     return found
 
 
-def _nonplanar_layout(n: int, joints: tuple[Edge, ...], graph: nx.Graph, equalize: int) -> SkeletonLayout:
+def _nonplanar_layout(n: int, joints: tuple[Edge, ...], graph: nx.Graph, equalize: int, refine: int) -> SkeletonLayout:
     branches = _branches(graph)
     for size in range(1, len(branches) + 1):
         for chosen in combinations(branches, size):
@@ -274,18 +333,18 @@ def _nonplanar_layout(n: int, joints: tuple[Edge, ...], graph: nx.Graph, equaliz
                 and not nx.has_bridges(rest)
                 and nx.check_planarity(rest)[0]
             ):
-                return _with_branches(n, joints, rest, chosen, equalize)
+                return _with_branches(n, joints, rest, chosen, equalize, refine)
     raise DomesError(f"no planar part found to draw the chain with joints {list(joints)}")
 
 
 def _with_branches(
-    n: int, joints: tuple[Edge, ...], rest: nx.Graph, chosen: Sequence[tuple[int, ...]], equalize: int
+    n: int, joints: tuple[Edge, ...], rest: nx.Graph, chosen: Sequence[tuple[int, ...]], equalize: int, refine: int
 ) -> SkeletonLayout:
     """Lay out the planar part, then draw the chosen branches across it as straight bars."""
     kept = sorted(rest.nodes)
     renumber = {v: i for i, v in enumerate(kept)}
     part_joints = tuple(sorted((min(renumber[u], renumber[v]), max(renumber[u], renumber[v])) for u, v in rest.edges))
-    part = _planar_layout(len(kept), part_joints, nx.check_planarity(nx.Graph(part_joints))[1], equalize)
+    part = _planar_layout(len(kept), part_joints, nx.check_planarity(nx.Graph(part_joints))[1], equalize, refine)
     index = {e: k for k, e in enumerate(joints)}
     positions: dict[int, Point] = {}
     rings: dict[int, tuple[int, ...]] = {}
