@@ -211,6 +211,10 @@ def _refine(xy: np.ndarray, count: int, sides: list[Edge], outer: list[int], fac
 
     sign = np.sign(areas(xy))
     joint_pairs = np.array(list(combinations(range(count), 2)))
+    centroid = np.zeros((len(faces), len(xy)))
+    for f, face in enumerate(faces):
+        centroid[f, list(face)] = 1.0 / len(face)
+    centres = np.arange(count, count + len(faces))
     for _ in range(rounds):
         d = xy[side[:, 0]] - xy[side[:, 1]]
         length = np.hypot(d[:, 0], d[:, 1])
@@ -227,10 +231,8 @@ def _refine(xy: np.ndarray, count: int, sides: list[Edge], outer: list[int], fac
         push = (0.5 * (REPEL * target - gap[near]) / np.maximum(gap[near], 1e-12))[:, None] * d[near]
         np.add.at(move, joint_pairs[near, 0], push)
         np.add.at(move, joint_pairs[near, 1], -push)
-        for f, face in enumerate(faces):
-            move[count + f] = xy[list(face)].mean(axis=0) - xy[count + f]
-            weight[count + f] = 1.0
         move /= np.maximum(weight, 1.0)[:, None]
+        move[centres] = centroid @ xy - xy[centres]
         move[~free] = 0.0
         new = xy + move
         floor = 1e-3 * target * target
@@ -259,39 +261,31 @@ def layout_quality(layout: SkeletonLayout) -> tuple[float, float]:
     return closest / median, sizes[-1] / max(sizes[0], 1e-12)
 
 
-def _tutte(
-    count: int, sides: list[Edge], outer: list[int], faces: list[tuple[int, ...] | list[int]], equalize: int
-) -> np.ndarray:
+def _tutte(count: int, sides: list[Edge], outer: list[int], faces: list, equalize: int) -> np.ndarray:
     """Barycentric embedding of the joints, then one centre per face: their positions, in that order."""
     total = count + len(faces)
-    springs: list[tuple[int, int, float]] = [(a, b, 1.0) for a, b in sides]
-    for f, face in enumerate(faces):
-        springs.extend((count + f, k, SPOKE_WEIGHT) for k in face)
+    pairs = list(sides) + [(count + f, k) for f, face in enumerate(faces) for k in face]
+    ends = np.array(pairs)
+    base = np.array([1.0] * len(sides) + [SPOKE_WEIGHT] * (len(pairs) - len(sides)))
     fixed = np.zeros((total, 2))
-    for i, k in enumerate(outer):
-        angle = math.pi / 2 + 2 * math.pi * i / len(outer)
-        fixed[k] = (math.cos(angle), math.sin(angle))
-    free = [k for k in range(total) if k not in set(outer)]
-    slot = {k: i for i, k in enumerate(free)}
-    weights = np.array([w for _, _, w in springs])
+    angles = math.pi / 2 + 2 * math.pi * np.arange(len(outer)) / len(outer)
+    fixed[outer] = np.column_stack((np.cos(angles), np.sin(angles)))
+    free = np.ones(total, dtype=bool)
+    free[outer] = False
+    weights = base
     xy = fixed
     for round_ in range(equalize + 1):
-        matrix = np.zeros((len(free), len(free)))
-        rhs = np.zeros((len(free), 2))
-        for (a, b, _), w in zip(springs, weights):
-            for p, q in ((a, b), (b, a)):
-                if p in slot:
-                    matrix[slot[p], slot[p]] += w
-                    if q in slot:
-                        matrix[slot[p], slot[q]] -= w
-                    else:
-                        rhs[slot[p]] += w * fixed[q]
+        laplacian = np.zeros((total, total))
+        np.add.at(laplacian, (ends[:, 0], ends[:, 1]), -weights)
+        np.add.at(laplacian, (ends[:, 1], ends[:, 0]), -weights)
+        np.add.at(laplacian, (ends[:, 0], ends[:, 0]), weights)
+        np.add.at(laplacian, (ends[:, 1], ends[:, 1]), weights)
         xy = fixed.copy()
-        if free:
-            xy[free] = np.linalg.solve(matrix, rhs)
+        if free.any():
+            rhs = -laplacian[np.ix_(free, ~free)] @ fixed[~free]
+            xy[free] = np.linalg.solve(laplacian[np.ix_(free, free)], rhs)
         if round_ < equalize:
-            lengths = np.array([np.hypot(*(xy[a] - xy[b])) for a, b, _ in springs])
-            base = np.array([w for _, _, w in springs])
+            lengths = np.hypot(*(xy[ends[:, 0]] - xy[ends[:, 1]]).T)
             weights = base * np.clip(lengths / np.median(lengths[: len(sides)]), 0.2, 5.0)
     return xy
 
