@@ -69,7 +69,7 @@ def atlas_html(cards: Iterable[Card], title: str, summary: str = "") -> str:
     """
     cards = list(cards)
     body = [tag("h1", text=title)]
-    body.append(tag("p", {"class": "summary"}, text=summary or f"{len(cards)} entries"))
+    body.append(tag("p", {"class": "summary"}, text=summary or (f"{len(cards)} entries" if len(cards) != 1 else "1 entry")))
     body.append(tag("div", {"class": "cards"}, ["\n" + card.html() for card in cards] + ["\n"]))
     head = [tag("meta", {"charset": "utf-8"}), tag("title", text=title), tag("style", text=STYLE)]
     page = tag("html", {"xmlns": "http://www.w3.org/1999/xhtml", "lang": "en"}, [tag("head", children=head), "\n", tag("body", children=body), "\n"])

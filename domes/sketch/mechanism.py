@@ -11,9 +11,10 @@ the symbols of its labels, after Table 3-5 of seed 002:
 * ``H`` joints, and links with the role ``shock_absorber``, as
   cylinder-and-rod (a shock absorber also with its spring); ``S`` joints as
   zigzag springs; ``F`` joints as dashed force members marked F: when both
-  links at the joint are binary the pair is drawn as the one member it
-  stands for (the dyad of Table 3-5), otherwise the joint is marked with
-  its letter;
+  links at the joint are binary the pair is drawn as the one straight
+  member it stands for (the dyad of Table 3-5, its middle joint on the line
+  between the dyad's outer joints), otherwise the joint is marked with its
+  letter;
 * ``G`` joints as two pitch circles touching, ``C`` joints as a cam and
   roller follower, ``O`` joints as a roller on a track;
 * every role written beside its link.
@@ -100,16 +101,19 @@ def mechanism_svg(labelled, positions: Mapping[Edge, Point] | None = None, *, si
         else:
             style = {"fill": PLATE_FILL, "stroke": INK, "stroke-width": "2", "stroke-linejoin": "round"}
         items.extend(link_shape(layout, frame, v, style))
+        if v in ground and bar:
+            a, b = (pts[k] for k in layout.link_rings[v])
+            items.extend(symbols.hatch_ticks(a, b, s, middle))
 
     for symbol, u, v, k in members:
         if k < 0:
             a, b = (pts[j] for j in layout.link_rings[u])
-            m = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
         else:
-            a, m, b = _other_end(layout, frame, u, k), pts[k], _other_end(layout, frame, v, k)
+            a, b = _other_end(layout, frame, u, k), _other_end(layout, frame, v, k)
+        m = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)  # a member is straight: its middle joint on the line a-b
         group = {"class": f"member {symbol}", "data-links": f"{u}-{v}"}
         if symbol == "S":
-            items.append(tag("g", group, symbols.spring(a, m, s) + symbols.spring(m, b, s)))
+            items.append(tag("g", group, symbols.spring(a, b, s)))
         elif symbol == "F":
             items.append(tag("g", group, symbols.force(a, m, b, s)))
         else:

@@ -55,6 +55,21 @@ def ground_pivot(p: Point, s: float, away: Point) -> list[str]:
     return items
 
 
+def hatch_ticks(a: Point, b: Point, s: float, away: Point) -> list[str]:
+    """Short hatch strokes along a ground bar ``a-b``, on the side away from ``away``."""
+    d, length = _unit(a, b)
+    n = (-d[1], d[0])
+    mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+    if (away[0] - mid[0]) * n[0] + (away[1] - mid[1]) * n[1] > 0:
+        n = (-n[0], -n[1])
+    count = max(2, int(length / (0.12 * s)))
+    items = []
+    for i in range(1, count):
+        start = _at(a, d, i * length / count, n, 0.03 * s)
+        items.append(_line(start, _at(start, d, -0.08 * s, n, 0.08 * s), "hatch", 1.0, {"stroke": GROUND_INK}))
+    return items
+
+
 def input_arrow(p: Point, s: float) -> list[str]:
     """A curved arrow about joint ``p``: the input (driving) motion."""
     r = 0.3 * s
