@@ -35,7 +35,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_draw)
 
 
-def _parse_role(text: str, n: int) -> tuple[int, str]:
+def _parse_role(text: str) -> tuple[int, str]:
     link, sep, name = text.partition("=")
     if not sep or not name.strip() or not link.strip().isdigit():
         raise DomesError(f"--role {text!r}: expected LINK=NAME, e.g. 3=swing_arm")
@@ -60,7 +60,7 @@ def labelled_from_args(chain: Chain, args: argparse.Namespace) -> LabelledChain 
     for link in args.input:
         roles.setdefault(link, set()).add("input")
     for text in args.role:
-        link, name = _parse_role(text, chain.n)
+        link, name = _parse_role(text)
         roles.setdefault(link, set()).add(name)
     types = {}
     joints = set(chain.edges)

@@ -10,14 +10,17 @@ layout is a planar straight-line drawing of the chain's *medial graph*:
 2. build the medial graph ``H``: one vertex per joint; a plate's joints are
    joined in their cyclic order around the link, a bar's two joints by the
    bar. The faces of ``H`` are the plates and the loops;
-3. put the joints of the largest loop (the book's *main loop*, §5-3) on a
-   circle, add a centre vertex inside every other face of ``H`` joined to
-   the face's joints (so the disc is triangulated), and place every other
-   vertex at the weighted average of its neighbours (Tutte's barycentric
-   embedding; by Tutte's and Floater's theorem it is a planar straight-line
-   drawing for any positive weights and a strictly convex outer polygon);
+3. put the joints of one loop on a circle, add a centre vertex inside every
+   other face of ``H`` joined to the face's joints (so the disc is
+   triangulated), and place every other vertex at the weighted average of
+   its neighbours (Tutte's barycentric embedding; by Tutte's and Floater's
+   theorem it is a planar straight-line drawing for any positive weights and
+   a strictly convex outer polygon);
 4. reweight a few times, weight ∝ current length, to even out the link
-   sizes (still planar by the same theorem).
+   sizes (still planar by the same theorem); try every loop as the outer
+   one and keep the best drawing (:func:`layout_quality`);
+5. refine: move joints towards even side lengths and apart from close
+   joints, taking back any move that would turn a triangle of step 3 over.
 
 Plates and bars are then faces and edges of one planar drawing: no two links
 cross or overlap except at their shared joints. A non-planar chain is drawn
@@ -66,8 +69,10 @@ class SkeletonLayout:
     ``v`` in the order its plate outline visits them (two for a bar); joints
     of ``v`` not on the ring (pins inside a plate, only in non-planar
     drawings) are in ``link_pins[v]``. ``link_centres[v]`` is a point inside
-    link ``v`` (for labels and the abstract-graph view). ``crossing_links``
-    names the links drawn across others (empty for a planar chain).
+    link ``v`` (for labels and the abstract-graph view). ``planar`` is true
+    when the layout comes from a planar embedding (no link crosses another);
+    ``crossing_links`` names the links drawn across the others of a
+    non-planar chain.
     """
 
     n: int
@@ -78,10 +83,6 @@ class SkeletonLayout:
     link_centres: tuple[Point, ...]
     planar: bool
     crossing_links: tuple[int, ...] = ()
-
-    def joint_index(self, u: int, v: int) -> int:
-        """Index of the joint between links ``u`` and ``v``."""
-        return self.joints.index((min(u, v), max(u, v)))
 
     def link_lengths(self) -> tuple[float, ...]:
         """Size of each link: a bar's length, a plate's mean side."""
@@ -195,8 +196,8 @@ def _refine(xy: np.ndarray, count: int, sides: list[Edge], outer: list[int], fac
     """Even out link sides and spread close joints, never turning a triangle of the disc over.
 
     Each round moves every free vertex towards where its sides would have
-    the median length and away from joints closer than half of it (face
-    centres towards their face's centroid). A move that would flip or
+    the median length and away from joints closer than :data:`REPEL` of it
+    (face centres towards their face's centroid). A move that would flip or
     flatten one of the triangles (face centre, joint, next joint) is taken
     back, so the drawing stays a planar straight-line drawing.
     """
@@ -387,7 +388,8 @@ def layout_from_positions(chain, positions: Mapping[Edge, Point]) -> SkeletonLay
     """A layout with the joints at given points (for example a kinematic solution).
 
     Each plate's outline visits its joints in angular order about their
-    centroid. No planarity is implied: the positions decide.
+    centroid. Nothing is checked about crossings (``planar`` is false): the
+    positions decide.
 
     >>> from domes.chains import Chain
     >>> square = {(0, 1): (0, 0), (1, 2): (1, 0), (2, 3): (1, 1), (0, 3): (0, 1)}
@@ -412,4 +414,4 @@ def layout_from_positions(chain, positions: Mapping[Edge, Point]) -> SkeletonLay
         mine.sort(key=lambda k: (math.atan2(points[k][1] - cy, points[k][0] - cx), k))
         rings.append(tuple(mine))
         centres.append((cx, cy))
-    return SkeletonLayout(n, joints, points, tuple(rings), tuple(() for _ in range(n)), tuple(centres), True)
+    return SkeletonLayout(n, joints, points, tuple(rings), tuple(() for _ in range(n)), tuple(centres), False)

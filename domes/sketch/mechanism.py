@@ -71,24 +71,13 @@ def mechanism_svg(labelled, positions: Mapping[Edge, Point] | None = None, *, si
     s = median_link_length(layout, frame)
     pts = [frame(p) for p in layout.positions]
     middle = (sum(p[0] for p in pts) / len(pts), sum(p[1] for p in pts) / len(pts))
-    binary = [len(layout.link_rings[v]) == 2 and not layout.link_pins[v] for v in range(layout.n)]
     roles = labelled.roles
     kind = {k: labelled.joint_type(*e) for k, e in enumerate(layout.joints)}
-
-    members: list[tuple[str, int, int, int]] = []  # (symbol, link, link, middle joint)
-    used_links: set[int] = set()
-    for k, (u, v) in enumerate(layout.joints):
-        shock = "shock_absorber" in roles[u] and "shock_absorber" in roles[v]
-        if (kind[k] in MEMBER_JOINTS or shock) and binary[u] and binary[v] and not {u, v} & used_links:
-            members.append(("shock" if shock else kind[k], u, v, k))
-            used_links |= {u, v}
-    for v in range(layout.n):
-        if "shock_absorber" in roles[v] and binary[v] and v not in used_links:
-            members.append(("shock", v, v, -1))
-            used_links.add(v)
+    ground = [v for v in range(layout.n) if "ground" in roles[v]]
+    members = _members(layout, roles, kind, ground)
+    used_links = {v for _, u, w, _ in members for v in (u, w)}
     inside = {k for _, _, _, k in members}
 
-    ground = [v for v in range(layout.n) if "ground" in roles[v]]
     items: list[str] = [HATCH]
     for v in range(layout.n):
         if v in used_links:
@@ -127,7 +116,7 @@ def mechanism_svg(labelled, positions: Mapping[Edge, Point] | None = None, *, si
         t, p = kind[k], pts[k]
         if k in inside:
             continue
-        first, second = (u, v) if (u in ground or len(layout.link_rings[u]) >= len(layout.link_rings[v])) and v not in ground else (v, u)
+        first = _carrier(layout, ground, u, v)
         if t == "P":
             items.append(tag("g", {"class": "joint-symbol P", "data-joint": f"{u}-{v}"}, symbols.slider(p, _direction(_other_end(layout, frame, first, k), p), s)))
         elif t in ("G", "C", "O"):
@@ -148,6 +137,34 @@ def mechanism_svg(labelled, positions: Mapping[Edge, Point] | None = None, *, si
             items.extend(symbols.input_arrow(pts[k], s))
     items.extend(_role_labels(layout, frame, roles, members, numbers))
     return document(size, size, items, title=title)
+
+
+def _members(layout: SkeletonLayout, roles, kind: dict[int, str], ground: list[int]) -> list[tuple[str, int, int, int]]:
+    """Dyads and links drawn as one member: ``(symbol, link, link, middle joint)``.
+
+    A pair of binary links (neither the ground) joined by an ``H``, ``S`` or
+    ``F`` joint, or both with the role ``shock_absorber``; then any other
+    binary shock-absorber link alone (middle joint ``-1``).
+    """
+    binary = [len(layout.link_rings[v]) == 2 and not layout.link_pins[v] and v not in ground for v in range(layout.n)]
+    members, used = [], set()
+    for k, (u, v) in enumerate(layout.joints):
+        shock = "shock_absorber" in roles[u] and "shock_absorber" in roles[v]
+        if (kind[k] in MEMBER_JOINTS or shock) and binary[u] and binary[v] and not {u, v} & used:
+            members.append(("shock" if shock else kind[k], u, v, k))
+            used |= {u, v}
+    for v in range(layout.n):
+        if "shock_absorber" in roles[v] and binary[v] and v not in used:
+            members.append(("shock", v, v, -1))
+            used.add(v)
+    return members
+
+
+def _carrier(layout: SkeletonLayout, ground: list[int], u: int, v: int) -> int:
+    """The link carrying a joint's guide, cam or larger gear: the ground, else the one with more joints."""
+    if (u in ground) != (v in ground):
+        return u if u in ground else v
+    return u if len(layout.link_rings[u]) >= len(layout.link_rings[v]) else v
 
 
 def _direction(p: Point, q: Point) -> Point:
