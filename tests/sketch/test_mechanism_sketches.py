@@ -3,11 +3,13 @@
 import math
 import xml.etree.ElementTree as ET
 
+import networkx as nx
 import pytest
 from svgcheck import SVG, parse
 
+from domes.chains import chains
 from domes.errors import DomesError
-from domes.labelled import LabelledChain
+from domes.labelled import JOINT_TYPES, LabelledChain
 from domes.sketch import mechanism_svg
 
 # Suzuki RM-250X full floater, seed 002 §4-1 (digest 2.2, corrected MTM): links 1..6
@@ -111,3 +113,24 @@ def test_sketch_is_valid_xml_and_byte_identical():
     first = mechanism_svg(SUZUKI)
     assert ET.fromstring(first).tag == SVG + "svg"
     assert first == mechanism_svg(LabelledChain.build(6, SUZUKI.edges, SUZUKI.joint_types, dict(enumerate(SUZUKI.roles))))
+
+
+def test_every_joint_type_on_every_joint_of_the_six_bars():
+    # Robustness over the two one-DOF six-bar chains (Watt, Stephenson; seed 002 §4-1 Fig. 4-8):
+    # any joint type on any joint, ground on link 0, input on a link jointed to it.
+    for chain in chains(links=6, dof=1):
+        driver = next(v for u, v in chain.edges if u == 0)
+        for joint in chain.edges:
+            for joint_type in JOINT_TYPES:
+                labelled = LabelledChain.build(6, chain.edges, {joint: joint_type}, roles={0: {"ground"}, driver: {"input"}})
+                found = _classes(mechanism_svg(labelled))
+                assert len(found["input-arrow"]) == 1 and found["ground-pivot"]
+
+
+def test_non_planar_chain_sketch():
+    # A non-planar ten-bar chain (networkx check_planarity) still gets a sketch with all its joints.
+    chain = next(c for c in chains(links=10, dof=1) if not nx.check_planarity(c.to_networkx())[0])
+    labelled = LabelledChain.build(10, chain.edges, roles={0: {"ground"}})
+    svg = mechanism_svg(labelled)
+    drawn = {el.get("data-joint") for el in _classes(svg)["joint"]}
+    assert drawn == {f"{u}-{v}" for u, v in chain.edges}
