@@ -10,7 +10,7 @@ the byte.
 (True, 10)
 """
 
-from domes.sketch.atlas import Card, atlas_html, chain_atlas_html, chain_card
+from domes.sketch.atlas import Card, atlas_html, chain_atlas_html, chain_card, mechanism_card
 from domes.sketch.draw import chain_svg
 from domes.sketch.layout import SkeletonLayout, layout_from_positions, layout_quality, skeleton_layout
 from domes.sketch.mechanism import mechanism_svg
@@ -24,6 +24,7 @@ __all__ = [
     "chain_svg",
     "layout_from_positions",
     "layout_quality",
+    "mechanism_card",
     "mechanism_svg",
     "skeleton_layout",
 ]

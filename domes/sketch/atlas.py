@@ -16,7 +16,8 @@ from typing import Iterable, Sequence
 
 from domes.errors import DomesError
 from domes.sketch.draw import SIZE, chain_svg
-from domes.sketch.layout import skeleton_layout
+from domes.sketch.layout import SkeletonLayout, skeleton_layout
+from domes.sketch.mechanism import mechanism_svg
 from domes.sketch.svg import document, num, tag
 
 STYLE = """
@@ -82,18 +83,19 @@ def not_drawn_svg(reason: str, size: float = SIZE) -> str:
     return document(size, size, [text], title=reason)
 
 
-def chain_card(index: int | str, chain, *, graph: bool = False) -> Card:
+def chain_card(index: int | str, chain, *, layout: SkeletonLayout | None = None, graph: bool = False, size: float = SIZE) -> Card:
     """The card of one chain of the atlas: drawing and structural properties.
 
-    A chain that cannot be drawn (a joint in no loop) gets a placeholder and the reason.
+    Without a ``layout`` one is made; a chain that cannot be drawn (a joint
+    in no loop) then gets a placeholder and the reason.
     """
     assortment = " ".join(f"n{d}={k}" for d, k in chain.assortment.items())
     try:
-        layout = skeleton_layout(chain)
+        layout = layout or skeleton_layout(chain)
     except DomesError as exc:
-        layout, svg, planarity = None, not_drawn_svg(str(exc)), f"not drawn: {exc}"
+        layout, svg, planarity = None, not_drawn_svg(str(exc), size), f"not drawn: {exc}"
     else:
-        svg = chain_svg(chain, layout, graph=graph)
+        svg = chain_svg(chain, layout, graph=graph, size=size)
         planarity = "planar" if layout.planar else f"non-planar (links {', '.join(map(str, layout.crossing_links))} cross)"
     properties = (
         ("links / joints", f"{chain.links} / {chain.joints}"),
@@ -105,6 +107,33 @@ def chain_card(index: int | str, chain, *, graph: bool = False) -> Card:
         ("graph6", chain.graph6),
     )
     return Card(str(index), f"No. {index}", svg, properties)
+
+
+def mechanism_card(
+    index: int | str,
+    labelled,
+    *,
+    title: str | None = None,
+    properties: Sequence[tuple[str, str]] = (),
+    badge: str | None = None,
+    positions=None,
+    size: float = SIZE,
+) -> Card:
+    """The card of one labelled candidate: its sketch, roles, joint types and any further properties.
+
+    ``badge`` marks the card (e.g. ``"existing design"``); ``positions`` as in
+    :func:`~domes.sketch.mechanism.mechanism_svg`.
+
+    >>> from domes.labelled import LabelledChain
+    >>> four_bar = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)], roles={0: {"ground"}})
+    >>> mechanism_card(1, four_bar, badge="existing design").properties[0]
+    ('roles', '0: ground')
+    """
+    roles = "; ".join(f"{v}: {', '.join(sorted(r))}" for v, r in enumerate(labelled.roles) if r)
+    types = " ".join(f"{u}-{v}={t}" for (u, v), t in zip(labelled.edges, labelled.joint_types) if t != "R")
+    rows = (("roles", roles or "none"), ("joint types", types or "all R"), *properties)
+    svg = mechanism_svg(labelled, positions, size=size, title=title)
+    return Card(str(index), title or f"No. {index}", svg, tuple(rows), badge)
 
 
 def chain_atlas_html(chains: Sequence, title: str | None = None, *, graph: bool = False) -> str:

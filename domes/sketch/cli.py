@@ -10,9 +10,8 @@ import tempfile
 from domes.chains.chain import Chain
 from domes.errors import DomesError
 from domes.labelled import JOINT_TYPES, LabelledChain
-from domes.sketch.atlas import Card, atlas_html, chain_card
-from domes.sketch.draw import chain_svg
-from domes.sketch.mechanism import mechanism_svg
+from domes.sketch.atlas import atlas_html, chain_card, mechanism_card
+from domes.sketch.layout import skeleton_layout
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -95,15 +94,11 @@ def run_draw(args: argparse.Namespace) -> int:
     chain = Chain.from_graph6(args.graph6)
     labelled = labelled_from_args(chain, args)
     if labelled is None:
-        svg = chain_svg(chain, size=args.size, graph=args.graph, title=f"chain {args.graph6}")
-        card = chain_card(args.graph6, chain, graph=args.graph)
+        card = chain_card(args.graph6, chain, layout=skeleton_layout(chain), graph=args.graph, size=args.size)
     else:
-        svg = mechanism_svg(labelled, size=args.size, title=f"mechanism on chain {args.graph6}")
-        roles = "; ".join(f"{v}: {', '.join(sorted(r))}" for v, r in enumerate(labelled.roles) if r)
-        types = " ".join(f"{u}-{v}={t}" for (u, v), t in zip(labelled.edges, labelled.joint_types) if t != "R")
-        card = Card(args.graph6, f"mechanism on chain {args.graph6}", svg, (("roles", roles or "none"), ("joint types", types or "all R")))
+        card = mechanism_card(args.graph6, labelled, title=f"mechanism on chain {args.graph6}", size=args.size)
     if args.format == "html":
         write_text(atlas_html([card], card.title), args.output)
     else:
-        write_text(svg + "\n", args.output)
+        write_text(card.svg + "\n", args.output)
     return 0

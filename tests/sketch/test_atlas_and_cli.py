@@ -73,6 +73,7 @@ def test_draw_cli_writes_svg_and_html(tmp_path, capsys):
         (["draw", "E_lo", "--joint", "0-0=P"], "not jointed"),
         (["draw", "E_lo", "--role", "swing_arm"], "expected LINK=NAME"),
         (["draw", "E_lo", "--size", "5"], "--size"),
+        (["draw", "GQQ@Gs"], "bridge"),  # two four-bar loops joined by one joint (8 links, DOF 3)
     ],
 )
 def test_draw_cli_errors(args, message, capsys):
