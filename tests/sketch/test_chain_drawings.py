@@ -43,7 +43,6 @@ def test_eight_bar_chains_drawn_without_crossings(chain):
     _check_planar_drawing(chain)
 
 
-@pytest.mark.slow
 def test_ten_bar_chains_drawn_without_crossings():
     # seed 002 §3-2-II: 230 one-DOF ten-bar chains. Planarity from networkx (an
     # independent test): the non-planar ones cannot be drawn without a crossing
