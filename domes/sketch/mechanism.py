@@ -67,7 +67,7 @@ def mechanism_svg(labelled, positions: Mapping[Edge, Point] | None = None, *, si
     kinematic solution; by default the skeleton layout places the joints.
     """
     layout = layout_from_positions(labelled, positions) if positions is not None else skeleton_layout(labelled)
-    frame = Frame.fit(layout.positions, size, 34.0)
+    frame = Frame.fit(layout.positions, size, max(34.0, 0.15 * size))
     s = median_link_length(layout, frame)
     pts = [frame(p) for p in layout.positions]
     middle = (sum(p[0] for p in pts) / len(pts), sum(p[1] for p in pts) / len(pts))
@@ -108,7 +108,7 @@ def mechanism_svg(labelled, positions: Mapping[Edge, Point] | None = None, *, si
         else:
             parts = symbols.cylinder(a, m, b, s, "shock-absorber" if symbol == "shock" else "cylinder")
             if symbol == "shock":
-                parts += symbols.spring(a, b, s, "shock-spring", offset=0.2 * s)
+                parts += symbols.spring(a, b, s, "shock-spring", coil=(0.2, 0.8), amplitude=0.14)  # coil-over
             items.append(tag("g", group, parts))
 
     plain = []

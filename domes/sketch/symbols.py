@@ -65,7 +65,7 @@ def hatch_ticks(a: Point, b: Point, s: float, away: Point) -> list[str]:
     count = max(2, int(length / (0.12 * s)))
     items = []
     for i in range(1, count):
-        start = _at(a, d, i * length / count, n, 0.03 * s)
+        start = _at(a, d, i * length / count, n, 0.02 * s)
         items.append(_line(start, _at(start, d, -0.08 * s, n, 0.08 * s), "hatch", 1.0, {"stroke": GROUND_INK}))
     return items
 
@@ -115,16 +115,16 @@ def cylinder(a: Point, m: Point, b: Point, s: float, cls: str = "cylinder") -> l
     ]
 
 
-def spring(a: Point, b: Point, s: float, cls: str = "spring", offset: float = 0.0) -> list[str]:
-    """A zigzag spring from ``a`` to ``b`` (optionally offset sideways by ``offset``)."""
+def spring(a: Point, b: Point, s: float, cls: str = "spring", coil: tuple[float, float] = (0.15, 0.85), amplitude: float = 0.08) -> list[str]:
+    """A zigzag spring from ``a`` to ``b``, coiled over the fraction ``coil`` of the way."""
     d, length = _unit(a, b)
     n = (-d[1], d[0])
-    a, b = _at(a, n, offset), _at(b, n, offset)
-    turns, amp = 8, 0.08 * s
-    pts = [a, _at(a, d, 0.15 * length)]
+    turns, amp = 8, amplitude * s
+    first, last = coil
+    pts = [a, _at(a, d, first * length)]
     for i in range(turns):
-        pts.append(_at(a, d, (0.15 + 0.7 * (i + 0.5) / turns) * length, n, amp if i % 2 == 0 else -amp))
-    pts += [_at(a, d, 0.85 * length), b]
+        pts.append(_at(a, d, (first + (last - first) * (i + 0.5) / turns) * length, n, amp if i % 2 == 0 else -amp))
+    pts += [_at(a, d, last * length), b]
     return [tag("polyline", {"class": cls, "points": points(pts), "fill": "none", "stroke": INK, "stroke-width": "1.8", "stroke-linejoin": "round"})]
 
 
