@@ -23,7 +23,9 @@ layout is a planar straight-line drawing of the chain's *medial graph*:
    joints, taking back any move that would turn a triangle of step 3 over.
 
 Plates and bars are then faces and edges of one planar drawing: no two links
-cross or overlap except at their shared joints. A non-planar chain is drawn
+cross or overlap except at their shared joints. A joint in no loop (a
+bridge) is first given a loop by a helper link, dropped after the layout
+(:func:`_bridged_layout`). A non-planar chain is drawn
 from a planar part: the fewest branches (paths of binary links between
 multi-joint links, or direct joints) are taken out, the rest is laid out as
 above, and the branches are drawn back as straight bars between pins placed
@@ -39,7 +41,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from itertools import combinations
+from itertools import combinations, product
 from typing import Mapping, Sequence
 
 import networkx as nx
@@ -58,6 +60,8 @@ SPOKE_WEIGHT = 0.25
 REFINE_ROUNDS = 100
 #: Joints closer than this fraction of the median side are pushed apart while refining.
 REPEL = 0.6
+#: Helper rungs tried for a chain with bridges before taking the last one.
+RUNG_TRIES = 16
 
 
 @dataclass(frozen=True)
@@ -106,12 +110,6 @@ def _checked_edges(n: int, edges: Sequence[Edge]) -> tuple[Edge, ...]:
     low = [v for v in range(n) if graph.degree(v) < 2]
     if low:
         raise DomesError(f"cannot draw link(s) {low}: every link of a chain needs at least two joints")
-    if nx.has_bridges(graph):
-        bridge = next(nx.bridges(graph))
-        raise DomesError(
-            f"cannot draw joint {bridge[0]}-{bridge[1]}: it is in no loop (a bridge, as in some fractionated "
-            "chains of DOF 3 or more); such chains are not drawn"
-        )
     return joints
 
 
@@ -127,11 +125,18 @@ def skeleton_layout(chain, *, equalize: int = EQUALIZE_ROUNDS, refine: int = REF
     [2, 2, 2, 2, 3, 3]
     """
     n = int(chain.n)
-    joints = _checked_edges(n, chain.edges)
+    return _layout(n, _checked_edges(n, chain.edges), equalize, refine)
+
+
+def _layout(n: int, joints: tuple[Edge, ...], equalize: int, refine: int, outside: tuple[Edge, ...] = ()) -> SkeletonLayout:
+    """Dispatch on bridges and planarity; ``outside``: joints to put on the outer loop."""
     graph = nx.Graph(joints)
+    bridges = sorted((min(e), max(e)) for e in nx.bridges(graph))
+    if bridges:
+        return _bridged_layout(n, joints, bridges, equalize, refine)
     planar, embedding = nx.check_planarity(graph)
     if planar:
-        return _planar_layout(n, joints, embedding, equalize, refine)
+        return _planar_layout(n, joints, embedding, equalize, refine, outside)
     return _nonplanar_layout(n, joints, graph, equalize, refine)
 
 
@@ -155,7 +160,9 @@ def _faces(embedding: nx.PlanarEmbedding) -> list[list[Edge]]:
     return faces
 
 
-def _planar_layout(n: int, joints: tuple[Edge, ...], embedding: nx.PlanarEmbedding, equalize: int, refine: int) -> SkeletonLayout:
+def _planar_layout(
+    n: int, joints: tuple[Edge, ...], embedding: nx.PlanarEmbedding, equalize: int, refine: int, outside: tuple[Edge, ...] = ()
+) -> SkeletonLayout:
     index = {e: k for k, e in enumerate(joints)}
 
     def joint(u: int, v: int) -> int:
@@ -169,8 +176,12 @@ def _planar_layout(n: int, joints: tuple[Edge, ...], embedding: nx.PlanarEmbeddi
     loops = [[joint(u, w) for u, w in face] for face in _faces(embedding)]
     plates = [ring for ring in rings if len(ring) >= 3]
     sides = sorted({(min(a, b), max(a, b)) for ring in rings for a, b in zip(ring, ring[1:] + ring[:1]) if a != b})
+    wanted = [index[e] for e in outside]
+    fit = [(sum(k in loop for k in wanted), len(loop) if wanted else 0) for loop in loops]
     best = None
     for outer in range(len(loops)):
+        if fit[outer] < max(fit):
+            continue  # joints asked to be outside go on the longest loop through them
         inner = plates + [f for i, f in enumerate(loops) if i != outer]
         xy = _tutte(len(joints), sides, loops[outer], inner, equalize)
         layout = _assemble(n, joints, rings, xy)
@@ -379,6 +390,84 @@ def _with_branches(
         False,
         tuple(crossing),
     )
+
+
+# -- chains with a joint in no loop --------------------------------------------------
+
+
+def _bridged_layout(n: int, joints: tuple[Edge, ...], bridges: list[Edge], equalize: int, refine: int) -> SkeletonLayout:
+    """Draw a chain with bridges: add a helper rung beside each, lay out, then drop the helpers.
+
+    A bridge ``u-v`` (a joint in no loop, found only in fractionated chains
+    of DOF 3 or more) has the same face on both sides. A helper link ``w``
+    jointed to a neighbour ``a`` of ``u`` and a neighbour ``b`` of ``v``
+    (on their own sides of the bridge) closes a loop ``u-v…b-w-a…u``, so the
+    two sides are drawn next to each other, joined by the bridge and the
+    rung; the bridge stays on the outer loop. Removing ``w`` takes a corner
+    off the links ``a`` and ``b``: binary ones are preferred (the triangle
+    becomes a bar along one of its sides), and a choice is kept only if each
+    removed corner is an ear of its plate, so what is left stays inside it.
+    """
+    graph = nx.Graph(joints)
+    sides = nx.Graph(e for e in joints if e not in set(bridges))
+    sides.add_nodes_from(range(n))
+
+    def rung_ends(u: int) -> list[int]:
+        """Neighbours of ``u`` off the bridges, binary ones first, then ``u`` itself."""
+        return sorted(sides[u], key=lambda a: (graph.degree(a) != 2, a)) + [u]
+
+    choices = list(product(*(product(rung_ends(u), rung_ends(v)) for u, v in bridges)))
+    for choice in choices[:RUNG_TRIES]:
+        extra = []
+        for i, (a, b) in enumerate(choice):
+            extra += [(min(a, n + i), max(a, n + i)), (min(b, n + i), max(b, n + i))]
+        wide = _layout(n + len(bridges), tuple(sorted(joints + tuple(extra))), equalize, refine, tuple(bridges))
+        if all(_ear(wide, wide.joints.index(e), e[0] if e[1] >= n else e[1]) for e in extra):
+            break
+    index = {e: k for k, e in enumerate(wide.joints)}
+    keep = [index[e] for e in joints]
+    renumber = {old: new for new, old in enumerate(keep)}
+
+    def mapped(ks: tuple[int, ...]) -> tuple[int, ...]:
+        return tuple(renumber[k] for k in ks if k in renumber)
+
+    rings = [mapped(wide.link_rings[v]) for v in range(n)]
+    positions = tuple(wide.positions[k] for k in keep)
+    centres = [wide.link_centres[v] if len(rings[v]) >= 3 else _midpoint(positions[rings[v][0]], positions[rings[v][1]]) for v in range(n)]
+    return SkeletonLayout(
+        n,
+        joints,
+        positions,
+        tuple(rings),
+        tuple(mapped(wide.link_pins[v]) for v in range(n)),
+        tuple(centres),
+        wide.planar,
+        tuple(v for v in wide.crossing_links if v < n),
+    )
+
+
+def _ear(layout: SkeletonLayout, k: int, v: int) -> bool:
+    """Whether joint ``k`` is an ear of link ``v``'s outline: a convex corner with no other corner in its triangle.
+
+    Cutting an ear off leaves the rest of the plate inside the old plate, so
+    it cannot reach any other link (a bar's end and a triangle's corner
+    always qualify).
+    """
+    ring = layout.link_rings[v]
+    if len(ring) <= 3:
+        return True
+    pts = [layout.positions[j] for j in ring]
+    i = ring.index(k)
+    a, b, c = pts[i - 1], pts[i], pts[(i + 1) % len(pts)]
+
+    def cross(p: Point, q: Point, r: Point) -> float:
+        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+
+    area = sum(p[0] * q[1] - q[0] * p[1] for p, q in zip(pts, pts[1:] + pts[:1]))
+    if cross(a, b, c) * area <= 0:
+        return False
+    others = [p for j, p in enumerate(pts) if j not in (i - 1 if i else len(pts) - 1, i, (i + 1) % len(pts))]
+    return not any(cross(a, b, p) * area > 0 and cross(b, c, p) * area > 0 and cross(c, a, p) * area > 0 for p in others)
 
 
 # -- layouts from given joint positions (kinematics, hand-made drawings) ----------

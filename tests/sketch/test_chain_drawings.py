@@ -13,7 +13,6 @@ import pytest
 from svgcheck import closest_joints, crossings, link_size, median_link_size, parse
 
 from domes.chains import Chain, chains
-from domes.errors import DomesError
 from domes.sketch import chain_svg, layout_from_positions, skeleton_layout
 
 #: Closest two joints, as a fraction of the median link size (measured worst: 0.334 for the
@@ -71,19 +70,31 @@ def test_other_atlases_drawn_without_crossings():
     sets = [chains(links=n, dof=0) for n in (3, 5, 7, 9)]
     sets += [chains(links=n, dof=2, include_fractionated=True) for n in (5, 7, 9)]
     sets += [chains(links=n, dof=3, include_fractionated=True) for n in (6, 8)]
-    bridged = nonplanar = 0
+    nonplanar = 0
     for atlas in sets:
         for chain in atlas:
-            if not nx.check_planarity(chain.to_networkx())[0]:
-                nonplanar += 1
-            elif nx.has_bridges(chain.to_networkx()):
-                bridged += 1  # a joint in no loop: refused with a message (see docs/sketch.md)
-                with pytest.raises(DomesError, match="bridge"):
-                    skeleton_layout(chain)
-            else:
+            if nx.check_planarity(chain.to_networkx())[0]:
                 _check_planar_drawing(chain)
-    assert bridged == 1  # the two four-bar loops of the 8-link, DOF-3 atlas joined by one joint
+            else:
+                nonplanar += 1
     assert nonplanar == 3
+
+
+def test_chains_with_a_joint_in_no_loop():
+    # Bridges (a joint in no loop) occur in fractionated chains of DOF >= 3: one 8-link
+    # DOF-3 chain (two four-bar loops joined by one joint), five of 10 links, 24 of the
+    # 11-link DOF-4 chains (counted here with networkx, independently of the layout).
+    bridged = []
+    for links, dof in ((8, 3), (10, 3), (11, 4)):
+        found = [c for c in chains(links=links, dof=dof, include_fractionated=True) if nx.has_bridges(c.to_networkx())]
+        bridged.append(len(found))
+        for chain in found:
+            assert nx.check_planarity(chain.to_networkx())[0]
+            links_, joints = parse(chain_svg(chain))
+            assert sorted(joints) == sorted(f"{u}-{v}" for u, v in chain.edges)
+            assert crossings(links_, joints) == []
+            assert closest_joints(joints) >= 0.1 * median_link_size(links_)
+    assert bridged == [1, 5, 24]
 
 
 def test_checker_finds_a_crossing():
