@@ -86,8 +86,8 @@ def not_drawn_svg(reason: str, size: float = SIZE) -> str:
 def chain_card(index: int | str, chain, *, layout: SkeletonLayout | None = None, graph: bool = False, size: float = SIZE) -> Card:
     """The card of one chain of the atlas: drawing and structural properties.
 
-    Without a ``layout`` one is made; a chain that cannot be drawn (a joint
-    in no loop) then gets a placeholder and the reason.
+    Without a ``layout`` one is made; should that fail (a non-planar chain
+    with no planar part found), the card gets a placeholder and the reason.
     """
     assortment = " ".join(f"n{d}={k}" for d, k in chain.assortment.items())
     try:
