@@ -27,6 +27,7 @@ SUBCOMMAND_MODULES = (
     "domes.regeneration.cli",
     "domes.knowledge.cli",
     "domes.kinematics.cli",
+    "domes.sketch.cli",
 )
 
 

@@ -31,7 +31,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--dof", "-F", type=int, required=True, help="degrees of freedom F of the chain (0 for basic chains)")
     p.add_argument("--include-fractionated", action="store_true", help="keep chains with a cut link")
     p.add_argument("--count", action="store_true", help="print only the number of chains")
-    p.add_argument("--format", choices=("text", "graph6", "json"), default="text")
+    p.add_argument("--format", choices=("text", "graph6", "json", "html"), default="text", help="html: an atlas page with a drawing of every chain")
     p.add_argument(
         "--isomorphism",
         choices=ISOMORPHISM_METHODS,
@@ -111,7 +111,11 @@ def run_chains(args: argparse.Namespace) -> int:
         print(len(atlas))
         return 0
     out = sys.stdout
-    if args.format == "graph6":
+    if args.format == "html":
+        from domes.sketch.atlas import chain_atlas_html
+
+        out.write(chain_atlas_html(atlas, f"{len(atlas)} chains: {links} links, {joints} joints, DOF {args.dof}"))
+    elif args.format == "graph6":
         for chain in atlas:
             out.write(chain.graph6 + "\n")
     elif args.format == "json":

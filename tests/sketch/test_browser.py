@@ -1,0 +1,63 @@
+"""The atlas page in a real browser: headless Chromium renders every card (issue acceptance).
+
+Skipped when /usr/bin/chromium is absent (Debian package ``chromium``).
+"""
+
+import os
+import re
+import subprocess
+
+import pytest
+
+from domes.chains import chains
+from domes.sketch import chain_atlas_html
+
+CHROMIUM = "/usr/bin/chromium"
+pytestmark = pytest.mark.skipif(not os.path.exists(CHROMIUM), reason="needs the Debian package chromium (/usr/bin/chromium)")
+
+#: Measures, in the browser, every card's drawing and writes one line per card into <pre id="report">.
+PROBE = """<script>
+window.addEventListener("load", function () {
+  var rows = [];
+  document.querySelectorAll(".card").forEach(function (card) {
+    var svg = card.querySelector("svg");
+    var box = svg ? svg.getBoundingClientRect() : {width: 0, height: 0};
+    var drawn = svg && svg.querySelector(".skeleton") ? svg.querySelector(".skeleton").getBBox() : {width: 0, height: 0};
+    rows.push([card.dataset.id, box.width, box.height, drawn.width, drawn.height, card.querySelectorAll("circle.joint").length].join(" "));
+  });
+  var pre = document.createElement("pre");
+  pre.id = "report";
+  pre.textContent = rows.join("\\n");
+  document.body.appendChild(pre);
+});
+</script>"""
+
+
+def _chromium(*args):
+    command = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars", *args]
+    return subprocess.run(command, capture_output=True, text=True, timeout=180, check=True)
+
+
+def test_every_card_of_the_ten_bar_atlas_renders(tmp_path):
+    # all 230 one-DOF ten-bar chains (seed 002 §3-2-II), each card with a drawing of its 13 joints
+    page = chain_atlas_html(chains(links=10, dof=1)).replace("</body>", PROBE + "</body>")
+    path = tmp_path / "atlas.html"
+    path.write_text(page, encoding="utf-8")
+    dom = _chromium("--virtual-time-budget=10000", "--dump-dom", path.as_uri()).stdout
+    report = re.search(r'<pre id="report">(.*?)</pre>', dom, re.S)
+    assert report, "the probe script did not run"
+    rows = [line.split() for line in report.group(1).strip().splitlines()]
+    assert [r[0] for r in rows] == [str(i) for i in range(1, 231)]
+    for card, width, height, drawn_w, drawn_h, joints in rows:
+        assert float(width) > 100 and float(height) > 100, card
+        assert float(drawn_w) > 50 and float(drawn_h) > 50, card
+        assert int(joints) == 13, card
+
+
+def test_screenshot_of_the_atlas(tmp_path):
+    path = tmp_path / "atlas.html"
+    path.write_text(chain_atlas_html(chains(links=8, dof=1)), encoding="utf-8")
+    shot = tmp_path / "atlas.png"
+    _chromium("--window-size=1200,900", f"--screenshot={shot}", path.as_uri())
+    data = shot.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20000
