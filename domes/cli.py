@@ -28,6 +28,7 @@ SUBCOMMAND_MODULES = (
     "domes.knowledge.cli",
     "domes.kinematics.cli",
     "domes.sketch.cli",
+    "domes.expert.cli",
 )
 
 

@@ -11,7 +11,9 @@
 4. multi-level screening by the relevant criteria, every rejection with its
    criterion and reason;
 5. if every candidate is eliminated, the independent loops and then the gear
-   pairs are varied and the run repeated, saying so (§7-2 step 3).
+   pairs are varied and the run repeated, saying so (§7-2 step 3); if every
+   variation fails too, the result (with its rejections) is that of the
+   problem as stated.
 
 Gear pairs: the chains are the revolute atlas of DOF ``W − j_G`` with
 ``j_G`` joints typed ``G``; a gear pair removes one DOF where a revolute
@@ -43,6 +45,8 @@ from domes.synthesis.number import number_synthesis
 
 #: How far the design varies the problem when every candidate is eliminated: (extra loops, extra gear pairs).
 VARIATIONS = ((1, 0), (2, 0), (0, 1), (1, 1))
+#: Variations are not tried beyond this many links (the labelled atlases grow about 30-fold per loop).
+MAX_VARIED_LINKS = 10
 
 
 @dataclass(frozen=True)
@@ -105,16 +109,24 @@ def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None)
     )
 
 
-def design(problem: ProblemFrame, criteria, relevance: RelevanceVector | None = None, vary: bool = True) -> DesignRun:
+def design(
+    problem: ProblemFrame,
+    criteria,
+    relevance: RelevanceVector | None = None,
+    vary: bool = True,
+    max_links: int = MAX_VARIED_LINKS,
+) -> DesignRun:
     """Generate, label and screen the candidates of ``problem`` (see the module doc).
 
     ``criteria`` are the knowledge base's frames; ``relevance`` the problem's
-    vector (None: each criterion's own relevance condition decides).
+    vector (None: each criterion's own relevance condition decides). When
+    everything is eliminated and ``vary`` is set, the variations of
+    :data:`VARIATIONS` are tried, up to ``max_links`` links.
     """
     for key in ("dof", "loops"):
         if getattr(problem, key) is None:
             raise DomesError(f"the problem does not state its {key}: a design needs DOF and independent loops")
-    run = _attempt(problem, criteria, relevance)
+    first = run = _attempt(problem, criteria, relevance)
     notes = []
     if run.kept or not vary:
         return run
@@ -126,6 +138,10 @@ def design(problem: ProblemFrame, criteria, relevance: RelevanceVector | None = 
         varied = dataclasses.replace(
             problem, loops=problem.loops + extra_loops, gear_pairs=(problem.gear_pairs or 0) + extra_gears
         )
+        size = number_synthesis(varied.dof, varied.loops, varied.space, varied.gear_pairs).links
+        if size > max_links:
+            notes.append(f"{varied.loops} loops and {varied.gear_pairs} gear pairs not tried: {size} links is beyond {max_links}")
+            continue
         notes.append(
             f"with {run.problem.loops} loops and {run.problem.gear_pairs or 0} gear pairs ({run.links} links, "
             f"{run.joints} joints) {why}; trying {varied.loops} loops and {varied.gear_pairs} gear pairs"
@@ -138,5 +154,6 @@ def design(problem: ProblemFrame, criteria, relevance: RelevanceVector | None = 
         if run.kept:
             break
     else:
-        notes.append("every variation was eliminated too")
+        notes.append("every variation was eliminated too; the result is that of the problem as stated")
+        run = first
     return dataclasses.replace(run, notes=tuple(notes))

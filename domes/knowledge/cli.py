@@ -252,7 +252,9 @@ def run_check(args: argparse.Namespace) -> int:
 
 def run_build(args: argparse.Namespace) -> int:
     frames = build(args.source, args.db)
-    print(f"built the knowledge base: {len(frames)} criteria")
+    with KnowledgeBase(args.db) as kb:
+        cases = len(kb.problems())
+    print(f"built the knowledge base: {len(frames)} criteria, {cases} solved problems")
     return 0
 
 

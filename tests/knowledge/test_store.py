@@ -9,7 +9,7 @@ from domes.cli import main
 from domes.errors import DomesError
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.models import SCHEMA_VERSIONS
-from domes.knowledge.sources import read_file, read_knowledge
+from domes.knowledge.sources import read_cases, read_file, read_knowledge
 from domes.knowledge.store import KnowledgeBase, build
 from domes.paths import repo_root
 
@@ -194,3 +194,4 @@ def test_the_shipped_casebase_matches_the_sources():
     # casebase.db at the top of the checkout is built from knowledge/ by `domes kb build`.
     with KnowledgeBase(str(repo_root() / "casebase.db")) as kb:
         assert kb.frames() == read_knowledge(SHIPPED)
+        assert kb.problems() == read_cases(SHIPPED)

@@ -1,0 +1,145 @@
+"""The questions of the design dialogue: prompt, default, and a parser that validates an answer.
+
+A parser returns the answer's value or raises :class:`DomesError` with the
+reason; the session then asks again.
+
+>>> parse_int_range(1, 8)("3")
+3
+>>> parse_yes_no("Yes")
+True
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from domes.errors import DomesError
+from domes.knowledge.language import normalise_name, parse_criterion
+from domes.regeneration.scene import scene_names
+
+
+@dataclass(frozen=True)
+class Question:
+    id: str
+    prompt: str
+    parse: Callable[[str], Any]
+    default: str | None = None
+
+
+def parse_int_range(low: int, high: int) -> Callable[[str], int]:
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip())
+        except ValueError:
+            raise DomesError(f"expected a whole number from {low} to {high}, got {text.strip()!r}") from None
+        if not low <= value <= high:
+            raise DomesError(f"expected a whole number from {low} to {high}, got {value}")
+        return value
+
+    return parse
+
+
+def parse_yes_no(text: str) -> bool:
+    word = text.strip().lower()
+    if word in ("y", "yes"):
+        return True
+    if word in ("n", "no"):
+        return False
+    raise DomesError(f"answer yes or no, not {text.strip()!r}")
+
+
+def parse_class(text: str) -> str:
+    name = normalise_name(text)
+    if not name or not name.replace("_", "").isalnum():
+        raise DomesError("a problem class is a name of letters, digits and spaces (e.g. motorcycle rear suspension)")
+    return name
+
+
+def parse_space(text: str) -> int:
+    word = text.strip().lower()
+    if word in ("planar", "3"):
+        return 3
+    if word in ("spatial", "6"):
+        raise DomesError("spatial mechanisms (λ = 6) are not generated: the chain atlas is planar; answer planar")
+    raise DomesError(f"answer planar or spatial, not {text.strip()!r}")
+
+
+def parse_names(text: str) -> frozenset[str]:
+    if text.strip().lower() in ("", "none", "-"):
+        return frozenset()
+    names = [normalise_name(n) for n in text.split(",")]
+    bad = [n for n in names if not n or not n.replace("_", "").isalnum()]
+    if bad:
+        raise DomesError("give names separated by commas (e.g. ground, swing arm, shock absorber)")
+    return frozenset(names)
+
+
+def parse_scene(text: str) -> str | None:
+    word = text.strip()
+    if word.lower() in ("", "none", "-"):
+        return None
+    known = scene_names()
+    if word not in known:
+        raise DomesError(f"no scene {word!r}; the scenes are: {', '.join(known)} (or none)")
+    return word
+
+
+def parse_criterion_text(text: str) -> str:
+    parse_criterion(text)  # raises with the column and what was expected
+    return text.strip()
+
+
+def relation_parser(cases: list[str]) -> Callable[[str], tuple[str, str | None]]:
+    """``same [CASE]``, ``similar [CASE]`` or ``different``; the case may be left out when there is one."""
+
+    def parse(text: str) -> tuple[str, str | None]:
+        words = text.split()
+        if not words or words[0].lower() not in ("same", "similar", "different"):
+            raise DomesError("answer same, similar or different (optionally followed by a case id)")
+        relation = words[0].lower()
+        if relation == "different":
+            return relation, None
+        if len(words) > 1:
+            if words[1] not in cases:
+                raise DomesError(f"no case {words[1]!r} in this class; the cases are {', '.join(cases)}")
+            return relation, words[1]
+        if len(cases) > 1:
+            raise DomesError(f"say which case: {relation} {cases[0]} (cases: {', '.join(cases)})")
+        return relation, cases[0]
+
+    return parse
+
+
+def overrides_parser(ids: list[str]) -> Callable[[str], list[tuple[str, int]]]:
+    """``none``, or criterion ids to declare relevant (``ID`` or ``+ID``) or irrelevant (``-ID``)."""
+
+    def parse(text: str) -> list[tuple[str, int]]:
+        words = text.replace(",", " ").split()
+        if not words or words == ["none"]:
+            return []
+        out = []
+        for word in words:
+            bit = 0 if word.startswith("-") else 1
+            criterion = word.lstrip("+-")
+            if criterion not in ids:
+                raise DomesError(f"no criterion {criterion!r} in the knowledge base (see `domes kb list`)")
+            out.append((criterion, bit))
+        return out
+
+    return parse
+
+
+STATIC = {
+    "class": Question("class", "Problem class (e.g. motorcycle rear suspension)", parse_class),
+    "outputs": Question("outputs", "Number of output motions", parse_int_range(1, 8), "1"),
+    "dof": Question("dof", "Degrees of freedom W", parse_int_range(1, 6), "1"),
+    "space": Question("space", "Mechanism type: planar or spatial", parse_space, "planar"),
+    "loops": Question("loops", "Independent loops L", parse_int_range(1, 5)),
+    "gear_pairs": Question("gear_pairs", "Gear pairs j_G", parse_int_range(0, 4), "0"),
+    "slider_pairs": Question("slider_pairs", "Slider (prismatic) pairs", parse_int_range(0, 6), "0"),
+    "names": Question("names", "Representative attributes and special links, comma separated (or none)", parse_names, "none"),
+    "more_criteria": Question("more_criteria", "Specify additional screening criteria? (yes/no)", parse_yes_no, "no"),
+    "criterion": Question("criterion", "Criterion (e.g. the swing arm must be adjacent to the ground)", parse_criterion_text),
+    "satisfied": Question("satisfied", "Is the result satisfactory? (yes/no; 'rejected' lists the rejected candidates)", parse_yes_no, "yes"),
+}

@@ -1,0 +1,106 @@
+"""Recorded cases as regression tests: replay a transcript and show what changed.
+
+A shipped case (``knowledge/cases/NAME.json``) is a design transcript: the
+answers of the session and the problem frame it retained. Replaying runs the
+same answers against a temporary copy of the current case base (the case
+itself left out, unless the session was answered from it) and compares the
+new frame with the recorded one.
+
+>>> frame_differences({"results": [{"id": 1}], "date": "x"}, {"results": [{"id": 1}], "date": "y"})
+[]
+"""
+
+from __future__ import annotations
+
+import shutil
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from domes.errors import DomesError
+from domes.expert.session import Outcome, Session, load_transcript
+from domes.knowledge.store import KnowledgeBase, build, database_url, sqlite_path
+from domes.paths import knowledge_dir
+
+#: Frame fields that may differ between runs without the result changing.
+IGNORED = ("date",)
+
+
+def frame_differences(recorded: dict, replayed: dict) -> list[str]:
+    """Human-readable differences between two problem frames (as plain data)."""
+    out = []
+    for key in sorted(set(recorded) | set(replayed)):
+        if key in IGNORED:
+            continue
+        a, b = recorded.get(key), replayed.get(key)
+        if a == b:
+            continue
+        if key in ("results", "rejected") and isinstance(a, list) and isinstance(b, list):
+            ids = lambda rows: [r.get("id", r.get("candidate")) for r in rows]  # noqa: E731
+            out.append(f"{key}: recorded {len(a)} {ids(a)}, now {len(b)} {ids(b)}")
+            for old, new in zip(a, b):
+                if old != new:
+                    out.append(f"  first difference: recorded {old}, now {new}")
+                    break
+        else:
+            out.append(f"{key}: recorded {a!r}, now {b!r}")
+    return out
+
+
+@dataclass
+class Replay:
+    name: str
+    outcome: Outcome
+    differences: list[str]
+
+
+def case_path(name_or_path: str) -> Path:
+    """A transcript by file path, or a shipped case by name (``knowledge/cases/NAME.json``)."""
+    path = Path(name_or_path)
+    if path.is_file():
+        return path
+    candidate = knowledge_dir() / "cases" / f"{name_or_path}.json"
+    if candidate.is_file():
+        return candidate
+    shipped = sorted(p.stem for p in (knowledge_dir() / "cases").glob("*.json"))
+    raise DomesError(f"no case {name_or_path!r}: not a file, and not one of: {', '.join(shipped)}")
+
+
+def scratch_casebase(url: str | None, leave_out: str | None, folder: Path) -> str:
+    """A temporary copy of the case base (SQLite file copied, another database built from knowledge/)."""
+    target = folder / "casebase.db"
+    source = sqlite_path(database_url(url))
+    if source is not None and source.exists():
+        shutil.copyfile(source, target)
+    else:
+        build(url=f"sqlite:///{target}")
+    scratch = f"sqlite:///{target}"
+    if leave_out:
+        with KnowledgeBase(scratch) as kb:
+            if leave_out in {p.id for p in kb.problems()}:
+                kb.remove_problem(leave_out)
+    return scratch
+
+
+def replay(name_or_path: str, url: str | None = None, say=lambda text: None) -> Replay:
+    """Replay a transcript against (a copy of) the current case base; never changes it."""
+    path = case_path(name_or_path)
+    data = load_transcript(path)
+    recorded = data.get("frame") or {}
+    leave_out = None if data.get("relation") == "same" else recorded.get("id")
+    with tempfile.TemporaryDirectory(prefix="domes-replay-") as tmp:
+        scratch = scratch_casebase(url, leave_out, Path(tmp))
+        answers = [(e["question"], e["answer"]) for e in data["exchanges"]]
+        outcome = Session(scratch, answers, interactive=False, out=say).run()
+    now = outcome.frame.to_mapping() if outcome.frame else {}
+    differences = frame_differences(recorded, now)
+    if data.get("relation") != outcome.relation:
+        differences.insert(0, f"relation: recorded {data.get('relation')!r}, now {outcome.relation!r}")
+    return Replay(path.stem, outcome, differences)
+
+
+def record(answers: list[tuple[str, str]], case_id: str | None, url: str | None = None, say=lambda text: None) -> Outcome:
+    """Run answers against a scratch copy of the case base (without ``case_id``), as a replay would."""
+    with tempfile.TemporaryDirectory(prefix="domes-record-") as tmp:
+        scratch = scratch_casebase(url, case_id, Path(tmp))
+        return Session(scratch, answers, interactive=False, out=say).run()

@@ -1,0 +1,249 @@
+"""What the rules of the design expert act on: the case base, the design run, the messages.
+
+>>> world = World(url=None, say=print)
+>>> world.criterion_id("the swing arm must be adjacent to the ground")
+'designer-e6fb6ac8'
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import datetime as _dt
+import hashlib
+import re
+from typing import Callable
+
+from domes.errors import DomesError
+from domes.expert.design import DesignRun, design
+from domes.expert.facts import STRUCTURAL
+from domes.knowledge.frames import CriterionFrame
+from domes.knowledge.problems import ProblemFrame
+from domes.knowledge.relevance import RelevanceVector, relevance_vector
+from domes.knowledge.store import KnowledgeBase
+from domes.synthesis.number import number_synthesis
+
+
+class World:
+    """The design expert's access to the case base (one transaction per change) and the designer."""
+
+    def __init__(self, url: str | None, say: Callable[[str], None], vary: bool = True):
+        self.url = url
+        self.say = say
+        self.vary = vary
+        self.run_result: DesignRun | None = None
+        self.shown: ProblemFrame | None = None
+        self.retained: ProblemFrame | None = None
+        self.added: list[str] = []
+        self.relation: tuple[str, str | None] = ("different", None)
+
+    # -- the case base ---------------------------------------------------------------
+
+    def kb(self) -> KnowledgeBase:
+        return KnowledgeBase(self.url)
+
+    def solved(self) -> list[ProblemFrame]:
+        with self.kb() as kb:
+            return kb.problems()
+
+    def solved_in_class(self, problem_class: str) -> list[ProblemFrame]:
+        return [p for p in self.solved() if p.problem_class == problem_class]
+
+    def case(self, case_id: str) -> ProblemFrame:
+        with self.kb() as kb:
+            return kb.get_problem(case_id)
+
+    def criteria(self) -> list[CriterionFrame]:
+        with self.kb() as kb:
+            return kb.frames()
+
+    def structure_of(self, case_id: str) -> dict:
+        case = self.case(case_id)
+        self.say(f"Taking over the structure of {case_id}: " + ", ".join(f"{k} {getattr(case, k)}" for k in STRUCTURAL))
+        return {k: getattr(case, k) for k in STRUCTURAL}
+
+    # -- answers -----------------------------------------------------------------------
+
+    def answered(self, engine, question: str, value) -> None:
+        """Turn a validated answer into facts (or a change of phase)."""
+        from domes.expert.facts import Phase, Relation
+
+        if question == "relation":
+            relation, case = value
+            self.relation = (relation, case)
+            engine.declare(Relation(value=relation, case=case))
+        elif question == "relevance_overrides":
+            vector = engine.attr("relevance_default")
+            for criterion_id, bit in value:
+                vector = vector.set(criterion_id, bit)
+            engine.set_attr("relevance", vector)
+        elif question == "more_criteria":
+            if value:
+                engine.ask("criterion")
+            else:
+                self._leave_phase(engine, "criteria")
+                engine.declare(Phase(name="run"))
+        elif question == "criterion":
+            self.add_criterion(engine, value)
+        elif question == "satisfied":
+            self._leave_phase(engine, "review")
+            engine.declare(Phase(name="retain" if value else "criteria"))
+        else:
+            engine.set_attr(question, value)
+
+    @staticmethod
+    def _leave_phase(engine, name: str) -> None:
+        from domes.expert.facts import Phase
+
+        for fact_id, fact in list(engine.facts.items()):
+            if isinstance(fact, Phase) and fact["name"] == name:
+                engine.retract(fact_id)
+
+    # -- actions of the rules ------------------------------------------------------------
+
+    def number_synthesis(self, engine, dof: int, loops: int, space: int, gears: int) -> None:
+        try:
+            numbers = number_synthesis(dof, loops, space, gears)
+        except DomesError as exc:
+            self.say(f"Cannot synthesize: {exc}. Please give the gear pairs again.")
+            engine.retract(next(i for i, f in engine.facts.items() if f.get("name") == "gear_pairs"))
+            return
+        self.say(
+            f"Structure rule: W = {dof}, L = {loops}, λ = {space}, j_G = {gears} "
+            f"-> {numbers.links} links, {numbers.joints} joints."
+        )
+        engine.set_attr("links", numbers.links)
+        engine.set_attr("joints", numbers.joints)
+
+    def problem(self, engine) -> ProblemFrame:
+        """The problem frame from the attributes known so far."""
+        a = engine.attr
+        return ProblemFrame(
+            id="current",
+            problem_class=a("class") or "unknown",
+            outputs=a("outputs"), dof=a("dof"), space=a("space") or 3, loops=a("loops"),
+            gear_pairs=a("gear_pairs"), slider_pairs=a("slider_pairs"), links=a("links"), joints=a("joints"),
+            names=a("names") or frozenset(), scene=a("scene"), relevance=a("relevance"),
+        )
+
+    def recognise(self, engine) -> str | None:
+        """The id of a solved problem with the same class, structure and attributes, if any."""
+        from domes.expert.session import recognise
+
+        problem = self.problem(engine)
+        match = recognise(problem, self.solved())
+        if match is not None:
+            self.relation = ("same", match.id)
+            self.say(f"The case base holds {match.id} with the same class, structure and attributes.")
+            return match.id
+        return None
+
+    def build_relevance(self, engine) -> None:
+        frames = self.criteria()
+        vector = relevance_vector(frames, self.problem(engine))
+        engine.set_attr("relevance_default", vector)
+        off = [f for f, bit in zip(frames, vector.bits) if not bit]
+        on = [f.id for f, bit in zip(frames, vector.bits) if bit]
+        self.say(f"Relevant criteria ({len(on)} of {len(frames)}): {', '.join(on) or 'none'}")
+        if off:
+            self.say("Irrelevant by default (you may declare them relevant with +ID, or others irrelevant with -ID):")
+            for f in off:
+                self.say(f"  {f.id}: {f.explanation}")
+
+    @staticmethod
+    def criterion_id(text: str) -> str:
+        """A stable id for a criterion the designer adds (the same sentence gets the same id)."""
+        normal = re.sub(r"\s+", " ", text.strip().lower())
+        return "designer-" + hashlib.sha1(normal.encode("utf-8")).hexdigest()[:8]
+
+    def add_criterion(self, engine, text: str) -> None:
+        """Add the designer's criterion to the knowledge base (one transaction) and to the relevance vector."""
+        frame = CriterionFrame.create(
+            self.criterion_id(text), text, explanation=f"added in a design session: {text}",
+            source="design session", date=_dt.date.today().isoformat(),
+        )
+        with self.kb() as kb:
+            known = {f.id: f for f in kb.frames()}
+            if frame.id not in known:
+                kb.add(frame)
+                self.say(f"Criterion {frame.id} added to the knowledge base.")
+            else:
+                self.say(f"Criterion {frame.id} is already in the knowledge base.")
+        self.added.append(frame.id)
+        vector = engine.attr("relevance")
+        engine.set_attr("relevance", vector.aligned(list(vector.ids) + [frame.id]).set(frame.id, 1))
+
+    def run(self, engine) -> None:
+        problem = self.problem(engine)
+        self.say(f"Designing: {problem.links} links, {problem.joints} joints, DOF {problem.dof}"
+                 + (f", scene {problem.scene}" if problem.scene else "") + " ...")
+        self.run_result = design(problem, self.criteria(), problem.relevance, vary=self.vary)
+        for note in self.run_result.notes:
+            self.say(note)
+        self.say(result_text(self.run_result))
+
+    def show_stored(self, case_id: str) -> None:
+        frame = self.case(case_id)
+        self.shown = frame
+        self.say(f"The same problem as {case_id}, solved before: its result, from the case base.")
+        self.say(frame_text(frame))
+
+    def retain(self, engine) -> None:
+        run = self.run_result
+        relation, case = self.relation
+        vector = engine.attr("relevance")
+        if relation == "similar" and case:
+            old = self.case(case).relevance
+            if old is not None:
+                vector = vector.merge(old.aligned(vector.ids))
+        with self.kb() as kb:
+            ids = {p.id for p in kb.problems()}
+            base = run.problem.problem_class.replace("_", "-")
+            number = 1
+            while f"{base}-{number}" in ids:
+                number += 1
+            frame = dataclasses.replace(
+                run.problem, id=f"{base}-{number}", relevance=vector, results=run.kept, rejected=run.rejected,
+                notes=run.notes, criteria_added=tuple(self.added), source="design session",
+                date=_dt.date.today().isoformat(), title=engine.attr("class") or "",
+            )
+            kb.retain(frame)
+        self.retained = frame
+        self.say(f"Retained as case {frame.id}.")
+
+
+def _roles(candidate: dict) -> str:
+    parts = []
+    for link in candidate.get("links", []):
+        if isinstance(link, dict) and link.get("roles"):
+            parts.append(f"{link['id']}:{'+'.join(link['roles'])}")
+    special = [f"{j['links'][0]}-{j['links'][1]}:{j['type']}" for j in candidate.get("joints", []) if j.get("type", "R") != "R"]
+    return " ".join(parts + special)
+
+
+def result_text(run: DesignRun) -> str:
+    """The candidates kept, and how many each criterion removed."""
+    lines = [f"{len(run.kept)} of {len(run.candidates)} candidates kept ({run.links} links, {run.joints} joints)."]
+    for c in run.kept:
+        flag = "  EXISTING" if c.get("existing") else ""
+        lines.append(f"  candidate {c['id']}: {_roles(c)}{flag}")
+    removed: dict[str, int] = {}
+    for r in run.rejected:
+        removed[r["criterion"]] = removed.get(r["criterion"], 0) + 1
+    for criterion, count in removed.items():
+        lines.append(f"  {count} removed by {criterion}")
+    if run.emptied_by:
+        lines.append(f"  every candidate was eliminated; {run.emptied_by} removed the last ones")
+    return "\n".join(lines)
+
+
+def frame_text(frame: ProblemFrame) -> str:
+    """A stored problem frame and its result."""
+    lines = [
+        f"case {frame.id} ({frame.problem_class}): DOF {frame.dof}, {frame.loops} loops, {frame.links} links, "
+        f"{frame.joints} joints, {frame.slider_pairs or 0} sliders, {frame.gear_pairs or 0} gear pairs",
+        f"  representative attributes: {', '.join(sorted(frame.names)) or 'none'}",
+        f"  {len(frame.results)} candidates:",
+    ]
+    lines += [f"  candidate {c.get('id')}: {_roles(c)}{'  EXISTING' if c.get('existing') else ''}" for c in frame.results]
+    lines += [f"  {note}" for note in frame.notes]
+    return "\n".join(lines)
