@@ -152,7 +152,11 @@ class DesignExpert(KnowledgeEngine):
     def run_design(self, phase):
         self.retract(phase)
         self.world.run(self)
-        self.declare(Phase(name="review"))
+        self.declare(Phase(name="verify" if self.world.run_result.kept else "review"))
+
+    @Rule(Phase(name="verify"), NOT(Ask()))
+    def verify(self):
+        self.ask("verify")
 
     @Rule(Phase(name="review"), NOT(Ask()))
     def review(self):

@@ -143,3 +143,22 @@ STATIC = {
     "criterion": Question("criterion", "Criterion (e.g. the swing arm must be adjacent to the ground)", parse_criterion_text),
     "satisfied": Question("satisfied", "Is the result satisfactory? (yes/no; 'rejected' lists the rejected candidates)", parse_yes_no, "yes"),
 }
+
+
+def verify_parser(kept: dict[int, "LabelledChain"]):
+    """``none``, or ``CANDIDATE FILE CHECK`` (see :mod:`domes.expert.verify`)."""
+    from domes.expert.verify import load_for, parse_check
+
+    def parse(text: str):
+        words = text.split()
+        if not words or words == ["none"]:
+            return None
+        if len(words) < 3 or not words[0].isdigit():
+            raise DomesError("answer none, or: CANDIDATE FILE CHECK (e.g. 2 examples/design/suzuki-rm250x.json range slide:g -10:10)")
+        candidate = int(words[0])
+        if candidate not in kept:
+            raise DomesError(f"candidate {candidate} is not among those kept ({', '.join(map(str, sorted(kept)))})")
+        check = parse_check(words[2:])
+        return candidate, load_for(kept[candidate], words[1]), check, words[1]
+
+    return parse

@@ -22,7 +22,8 @@ from typing import Callable
 
 from domes.errors import DomesError
 from domes.expert.engine import DesignExpert
-from domes.expert.questions import STATIC, Question, overrides_parser, parse_scene, relation_parser
+from domes.expert.questions import STATIC, Question, overrides_parser, parse_scene, relation_parser, verify_parser
+from domes.labelled.graph import LabelledChain
 from domes.expert.reasoner import relation as case_relation
 from domes.expert.world import World
 from domes.knowledge.problems import ProblemFrame
@@ -134,6 +135,10 @@ class Session:
             default = default or next((s for s in known if slug == s or slug.startswith(s)), None)
             return Question("scene", f"Scene whose rules give the links their roles ({', '.join(known)}, or none)",
                             parse_scene, default or "none")
+        if qid == "verify":
+            kept = {c["id"]: LabelledChain.from_dict(c) for c in self.world.run_result.kept}
+            return Question("verify", "Verify dimensions? (none, or CANDIDATE FILE.json CHECK; CHECK is rotatability "
+                            "or range OUTPUT FROM:TO)", verify_parser(kept), "none")
         if qid == "relevance_overrides":
             ids = list(engine.attr("relevance_default").ids)
             return Question("relevance_overrides", "Override relevance? (none, or criterion ids: ID or +ID relevant, -ID irrelevant)",

@@ -84,6 +84,13 @@ class World:
                 engine.declare(Phase(name="run"))
         elif question == "criterion":
             self.add_criterion(engine, value)
+        elif question == "verify":
+            if value is None:
+                self._leave_phase(engine, "verify")
+                engine.declare(Phase(name="review"))
+            else:
+                self.verify(*value)
+                engine.ask("verify")
         elif question == "satisfied":
             self._leave_phase(engine, "review")
             engine.declare(Phase(name="retain" if value else "criteria"))
@@ -180,6 +187,17 @@ class World:
         for note in self.run_result.notes:
             self.say(note)
         self.say(result_text(self.run_result))
+
+    def verify(self, candidate: int, mech, check: tuple, path: str) -> None:
+        """Run a dimensional check on a kept candidate; the result joins the design's notes."""
+        from domes.expert.verify import run_check
+
+        try:
+            text = f"verified candidate {candidate} with {path}: {run_check(mech, check)}"
+        except DomesError as exc:
+            text = f"verification of candidate {candidate} with {path} failed: {exc}"
+        self.say(text)
+        self.run_result = dataclasses.replace(self.run_result, notes=self.run_result.notes + (text,))
 
     def show_stored(self, case_id: str) -> None:
         frame = self.case(case_id)

@@ -64,6 +64,7 @@ def test_similar_problem_takes_over_the_structure_and_merges_the_vectors(casebas
         "more_criteria: yes\n"
         "criterion: the swing arm must be ternary\n"
         "more_criteria: no\n"
+        "verify: none\n"
         "satisfied: yes\n"
     )
     outcome, said = run(casebase, text)
@@ -94,6 +95,7 @@ def test_everything_eliminated_varies_loops_and_gears(casebase):
     text = MOTORCYCLE.replace("relevance_overrides: -book-ii", "relevance_overrides: none").replace(
         "class: motorcycle rear suspension\n", "class: motorcycle rear suspension\nrelation: different\n"
     ).replace("names: ground, swing arm, shock absorber", "names: ground, swing arm, shock absorber, damper")
+    text = "\n".join(line for line in text.splitlines() if not line.startswith("verify:"))  # nothing kept to verify
     outcome, said = run(casebase, text)
     assert "criterion 'book-ii' eliminated the last candidate; trying 3 loops" in said
     assert "every variation was eliminated too" in said
@@ -108,7 +110,8 @@ def test_bad_answers_are_asked_again_with_the_reason(casebase):
         "gear_pairs: 0\nslider_pairs: 1\nnames: none\nscene: nowhere\nscene: none\n"
         "relevance_overrides: +no-such-criterion\nrelevance_overrides: none\n"
         "more_criteria: maybe\nmore_criteria: yes\ncriterion: the swing arm must be adjacent to\n"
-        "criterion: every vertex must have at most 2 joints\nmore_criteria: no\nsatisfied: rejected\nsatisfied: yes\n"
+        "criterion: every vertex must have at most 2 joints\nmore_criteria: no\nverify: 2 nowhere.json rotatability\n"
+        "verify: 1 examples/mechanisms/four-bar.json rotatability\nverify: none\nsatisfied: rejected\nsatisfied: yes\n"
     )
     outcome, said = run(casebase, text)
     rejected = {e["answer"]: e["rejected"] for e in outcome.exchanges if "rejected" in e}
@@ -118,6 +121,8 @@ def test_bad_answers_are_asked_again_with_the_reason(casebase):
     assert "no criterion 'no-such-criterion'" in rejected["+no-such-criterion"]
     assert "yes or no" in rejected["maybe"]
     assert "column" in rejected["the swing arm must be adjacent to"]
+    assert "not among those kept" in rejected["2 nowhere.json rotatability"]
+    assert "is not this candidate" in rejected["1 examples/mechanisms/four-bar.json rotatability"]
     assert outcome.frame is not None and len(outcome.frame.results) == 1  # the slider-crank four-bar
 
 
@@ -133,3 +138,18 @@ def test_pump_structure_rule(casebase):
     with KnowledgeBase(casebase) as kb:
         pump = kb.get_problem("double-acting-pump-1")
     assert (pump.links, pump.joints) == (8, 10)
+
+
+def test_verification_of_a_candidate(casebase):
+    # The dimensioned Suzuki RM-250X is candidate 2 of the motorcycle design; the check's
+    # result (shock stroke for a swing-arm travel) joins the frame's notes, and equals the
+    # kinematics backend's own answer.
+    import math
+
+    from domes.kinematics import checks, load_mechanism
+
+    outcome, said = run(casebase, MOTORCYCLE.replace("class: motorcycle rear suspension\n", "class: test suspension\n"))
+    note = next(n for n in outcome.frame.notes if n.startswith("verified candidate 2"))
+    mech = load_mechanism(str(knowledge_dir().parent / "examples" / "design" / "suzuki-rm250x.json"))
+    r = checks.output_range(mech, "slide:g", math.radians(-10), math.radians(10))
+    assert f"travel {r.travel:.6g}" in note

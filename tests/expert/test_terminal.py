@@ -52,8 +52,10 @@ def test_design_on_a_terminal(tmp_path):
         if answer == "two":
             child.expect("not accepted: expected a whole number")
     child.expect("6 of 6 candidates kept")
-    child.expect(r"Is the result satisfactory")
+    child.expect(r"Verify dimensions")
     screen = child.before
+    child.sendline("none")
+    child.expect(r"Is the result satisfactory")
     candidates = [line for line in screen.splitlines() if line.strip().startswith("candidate ")]
     assert len(candidates) == 6
     assert sum("EXISTING" in line for line in candidates) == 1
@@ -85,6 +87,8 @@ def test_interrupt_and_resume(tmp_path):
         child.expect(prompt)
         child.sendline(answer)
     child.expect("6 of 6 candidates kept")
+    child.expect("Verify dimensions")
+    child.sendline("")
     child.expect("Is the result satisfactory")
     child.sendline("yes")
     child.expect("Retained as case")
