@@ -17,7 +17,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from domes.chains.generate import _DEFAULT
+from domes.chains.generate import clear_cache
 from domes.expert.replay import scratch_casebase
 from domes.expert.session import Session
 from domes.paths import knowledge_dir
@@ -27,8 +27,7 @@ def timed(work, urls: list[str]) -> float:
     """Best time of ``work(url)`` over prepared scratch case bases (copying is not timed)."""
     best = float("inf")
     for url in urls:
-        _DEFAULT._blocks.clear()
-        _DEFAULT._all.clear()
+        clear_cache()
         start = time.perf_counter()
         work(url)
         best = min(best, time.perf_counter() - start)

@@ -212,6 +212,17 @@ class ChainGenerator:
 _DEFAULT = ChainGenerator()
 
 
+def atlas(links: int, dof: int, include_fractionated: bool = False) -> list[Graph]:
+    """Edge lists of all chains, from the process-wide generator (each atlas built once)."""
+    return _DEFAULT.chains(links, dof, include_fractionated)
+
+
+def clear_cache() -> None:
+    """Forget every atlas built so far (benchmarks time cold runs with it)."""
+    _DEFAULT._blocks.clear()
+    _DEFAULT._all.clear()
+
+
 def generate(
     links: int,
     dof: int,
@@ -221,7 +232,7 @@ def generate(
 ) -> list[Graph]:
     """Edge lists of all chains (see :class:`ChainGenerator`); cached per process for nauty."""
     if isomorphism == "nauty" and progress is None:
-        return _DEFAULT.chains(links, dof, include_fractionated)
+        return atlas(links, dof, include_fractionated)
     return ChainGenerator(isomorphism=isomorphism, progress=progress).chains(links, dof, include_fractionated)
 
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from domes.chains.generate import ChainGenerator
+from domes.chains.generate import atlas
 from domes.errors import DomesError
 from domes.knowledge.explain import explain
 from domes.knowledge.problems import ProblemFrame
@@ -80,9 +80,9 @@ def candidates_for(problem: ProblemFrame, links: int, joints: int) -> list[tuple
         return [(c.mechanism, {"chain": c.chain_index, "existing": list(c.existing)}) for c in result.candidates]
     if chain_dof < 0:
         return []
-    atlas = [LabelledChain.build(n, edges) for n, edges in ChainGenerator().chains(links, chain_dof)]
+    chains = [LabelledChain.build(n, edges) for n, edges in atlas(links, chain_dof)]
     counts = {t: k for t, k in (("P", problem.slider_pairs or 0), ("G", problem.gear_pairs or 0)) if k}
-    return [(labelled, {}) for labelled in label_joints(atlas, counts)]
+    return [(labelled, {}) for labelled in label_joints(chains, counts)]
 
 
 def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None) -> DesignRun:

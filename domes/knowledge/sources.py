@@ -25,6 +25,7 @@ import tomllib
 from domes.errors import DomesError
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
+from domes.labelled.tomlsource import read_text
 
 FORMATS = ("toml", "json")
 
@@ -77,12 +78,7 @@ def loads_json(text: str, where: str = "<json>") -> list[CriterionFrame]:
 def read_file(path: str | Path) -> list[CriterionFrame]:
     """Frames from a ``.toml`` or ``.json`` file."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise DomesError(f"{path}: cannot read: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise DomesError(f"{path}: not UTF-8 text") from None
+    text = read_text(path)
     if path.suffix == ".json":
         return loads_json(text, str(path))
     return loads_toml(text, str(path))

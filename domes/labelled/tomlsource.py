@@ -20,6 +20,17 @@ from typing import Any
 from domes.errors import DomesError
 
 
+def read_text(path: str | Path) -> str:
+    """A UTF-8 text file, or a DomesError that names it and says why it cannot be read."""
+    path = Path(path)
+    try:
+        return path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise DomesError(f"{path}: cannot read: {exc.strerror}") from None
+    except UnicodeDecodeError:
+        raise DomesError(f"{path}: not UTF-8 text") from None
+
+
 @dataclass(frozen=True)
 class TomlSource:
     """Parsed TOML plus its text, for locating errors."""
@@ -38,14 +49,7 @@ class TomlSource:
 
     @classmethod
     def read(cls, path: str | Path) -> "TomlSource":
-        path = Path(path)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise DomesError(f"cannot read {path}: {exc.strerror}") from None
-        except UnicodeDecodeError:
-            raise DomesError(f"{path}: not UTF-8 text") from None
-        return cls.parse(text, str(path))
+        return cls.parse(read_text(path), str(path))
 
     def line_of(self, needle: str, after: int = 0) -> int | None:
         """The first line (1-based) after line ``after`` that mentions ``needle`` as a key or quoted value."""

@@ -7,7 +7,7 @@ import json
 import sys
 
 from domes.chains.chain import Chain
-from domes.chains.generate import ChainGenerator
+from domes.chains.generate import atlas
 from domes.labelled.generalize import generalize
 from domes.labelled.mechanism import Mechanism
 from domes.regeneration.scene import load_scene, scene_names
@@ -61,8 +61,8 @@ def print_regeneration(result: Regeneration, new_only: bool, out=sys.stdout) -> 
     if scene.book_note:
         out.write(f"  book: {scene.book_note}\n")
     existing = [c for c in result.candidates if c.existing]
-    atlas = ChainGenerator().chains(scene.links, scene.dof, scene.include_fractionated)
-    names = {i: f" ({Chain(n, e).common_name})" for i, (n, e) in enumerate(atlas, 1) if Chain(n, e).common_name}
+    chains = atlas(scene.links, scene.dof, scene.include_fractionated)
+    names = {i: f" ({Chain(n, e).common_name})" for i, (n, e) in enumerate(chains, 1) if Chain(n, e).common_name}
     per_chain = {}
     for c in result.candidates:
         per_chain[c.chain_index] = per_chain.get(c.chain_index, 0) + 1
@@ -102,8 +102,8 @@ def run_generalize(args: argparse.Namespace) -> int:
     chain = g.unlabelled
     position = None
     if chain.dof >= 0 and chain.loops >= 1 and chain.is_connected and not chain.is_degenerate:
-        atlas = ChainGenerator().chains(chain.n, chain.dof, include_fractionated=True)
-        position = next((i for i, (n, e) in enumerate(atlas, 1) if Chain(n, e) == chain), None)
+        listed = atlas(chain.n, chain.dof, include_fractionated=True)
+        position = next((i for i, (n, e) in enumerate(listed, 1) if Chain(n, e) == chain), None)
     record = {
         "mechanism": mechanism.name,
         "links": chain.n,

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 from itertools import combinations
 from typing import Callable
 
-from domes.chains.generate import ChainGenerator
+from domes.chains.generate import atlas
 from domes.errors import DomesError
 from domes.knowledge.evaluate import graph_features
 from domes.labelled.graph import LabelledChain
@@ -153,12 +153,12 @@ def particularize(chain: LabelledChain, scene: Scene) -> LabelledChain:
 
 def regenerate(scene: Scene, progress: Callable[[str], None] | None = None) -> Regeneration:
     """Run every stage of ``scene`` (see the module doc)."""
-    atlas = ChainGenerator().chains(scene.links, scene.dof, scene.include_fractionated)
-    if not atlas:
+    chains = atlas(scene.links, scene.dof, scene.include_fractionated)
+    if not chains:
         raise DomesError(f"scene {scene.name!r}: there are no chains with {scene.links} links and DOF {scene.dof}")
     # (labelled chain, index of its chain in the atlas, |Aut| of that chain)
     current = []
-    for index, (n, edges) in enumerate(atlas, 1):
+    for index, (n, edges) in enumerate(chains, 1):
         chain = LabelledChain.build(n, edges)
         current.append((chain, index, chain.automorphisms().order))
     results = []
