@@ -10,7 +10,7 @@ the byte.
 (True, 10)
 """
 
-from domes.sketch.atlas import Card, atlas_html, chain_atlas_html, chain_card, mechanism_card
+from domes.sketch.atlas import Card, atlas_html, candidate_card, chain_atlas_html, chain_card, mechanism_card, regeneration_html
 from domes.sketch.draw import chain_svg
 from domes.sketch.layout import SkeletonLayout, layout_from_positions, layout_quality, skeleton_layout
 from domes.sketch.mechanism import mechanism_svg
@@ -19,6 +19,7 @@ __all__ = [
     "Card",
     "SkeletonLayout",
     "atlas_html",
+    "candidate_card",
     "chain_atlas_html",
     "chain_card",
     "chain_svg",
@@ -26,5 +27,6 @@ __all__ = [
     "layout_quality",
     "mechanism_card",
     "mechanism_svg",
+    "regeneration_html",
     "skeleton_layout",
 ]
