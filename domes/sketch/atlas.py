@@ -169,7 +169,7 @@ def regeneration_html(result, *, new_only: bool = False) -> str:
 
     >>> from domes.regeneration import load_scene, regenerate
     >>> page = regeneration_html(regenerate(load_scene("motorcycle")))
-    >>> page.count('<div class="card'), page.count('class="card marked"')
+    >>> page.count('data-id="'), page.count('class="card marked"')
     (6, 1)
     """
     scene = result.scene
