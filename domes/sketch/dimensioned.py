@@ -147,6 +147,10 @@ def coupler_curves(mech: Mechanism, names: Sequence[str], span: tuple[float, flo
     """
     if not names:
         return ()
+    known = [j.name for j in mech.joints] + [p.name for p in mech.points]
+    for name in names:
+        if name not in known:
+            raise DomesError(f"{mech.source or mech.name}: no coupler point or joint {name!r} to trace; there are {', '.join(known)}")
     # Every joint is solved too: the whole mechanism must assemble, not only the links carrying the points.
     outputs = list(dict.fromkeys([f"point:{n}" for n in names] + [f"point:{j.name}" for j in mech.joints]))
     q0 = pose_input(mech)
