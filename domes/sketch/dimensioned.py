@@ -37,6 +37,8 @@ from domes.sketch.svg import document, num, points, tag
 Point = tuple[float, float]
 #: Default drawing size (user units).
 SIZE = 400.0
+#: Halvings of a sweep step at most, where a traced point moves more than ``step · size`` in one step.
+REFINE_DEPTH = 8
 #: Colours of successive coupler curves.
 CURVE_COLOURS = ("#c1121f", "#2a9d8f", "#e76f51", "#6a4c93", "#1982c4")
 
@@ -121,11 +123,11 @@ def pose(mech: Mechanism, q: float | None = None, *, accuracy=None) -> Pose:
     return Pose(next(iter(step.inputs.values())), joints, coupler, guides, step.residual, step.condition)
 
 
-def _end_point(mech: Mechanism, outputs: list[str], dead: DeadPoint, start: float, accuracy) -> dict | None:
+def _end_point(mech: Mechanism, outputs: list[str], dead: DeadPoint, start: float, accuracy):
     """The traced points at a located dead point, solved just on the reachable side (``None`` if that fails)."""
     q = dead.input - math.copysign(dead.within, dead.input - start)
     try:
-        return solve(mech, q, outputs=outputs, accuracy=accuracy).values
+        return solve(mech, q, outputs=outputs, accuracy=accuracy)
     except DomesError:
         return None  # the last solved step ends the curve
 
@@ -138,7 +140,9 @@ def coupler_curves(mech: Mechanism, names: Sequence[str], span: tuple[float, flo
     input turns a full turn forward from the drawn pose and, if it stops at
     a dead point, a full turn backward too, so the curve runs from dead point
     to dead point; a P input moves ``size`` each way. A curve ends at the
-    located dead point where its sweep stops.
+    located dead point where its sweep stops. Where a traced point moves
+    more than ``step · size`` (rad × length) in one step, as near a limit of
+    a P input, the step is halved (up to :data:`REFINE_DEPTH` times).
 
     >>> from domes.kinematics.examples import triple_rocker
     >>> (curve,) = coupler_curves(triple_rocker(), ["B"])
@@ -166,22 +170,40 @@ def coupler_curves(mech: Mechanism, names: Sequence[str], span: tuple[float, flo
     for k, run in enumerate(runs):
         start = run.steps[0].inputs[run.joint] if run.steps else q0
         stop = next((d for d in run.dead_points if d.kind != "singular"), None) if run.status == "stopped" else None
-        values = [st.values for st in run.steps]
+        found = list(run.steps)
         end = _end_point(mech, outputs, stop, start, accuracy) if stop else None
         if end is not None:
-            values.append(end)
+            found.append(end)
         if k == 0 and len(runs) == 2:
-            steps += values[::-1][:-1]  # the backward run, reversed, without its first step (the drawn pose)
+            steps += found[::-1][:-1]  # the backward run, reversed, without its first step (the drawn pose)
             first = stop
         else:
-            steps += values
+            steps += found
             last = stop
+    kin = Kinematics(mech, outputs, accuracy=accuracy)
+    chord = kin.accuracy.step * mech.size
+    joint = mech.inputs[0].joint
+    refined = steps[:1]
+    for step in steps[1:]:
+        refined += _fill(kin, joint, refined[-1], step, names, chord, REFINE_DEPTH)
     curves = []
     for name in names:
-        path = [(v[f"point:{name}.x"], v[f"point:{name}.y"]) for v in steps]
-        closed = span is None and angular and first is None and last is None and len(path) > 2 and math.dist(path[0], path[-1]) <= 1e-9 * mech.size
+        path = [(st.values[f"point:{name}.x"], st.values[f"point:{name}.y"]) for st in refined]
+        closed = span is None and angular and first is None and last is None and len(path) > 2 and math.dist(path[0], path[-1]) <= 1e-6 * mech.size
         curves.append(CouplerCurve(name, tuple(path[:-1] if closed else path), closed, first, last))
     return tuple(curves)
+
+
+def _fill(kin: Kinematics, joint: str, a, b, names: Sequence[str], chord: float, depth: int) -> list:
+    """Steps after ``a`` up to ``b``: halves of the input step while a traced point moves more than ``chord``."""
+    far = max(math.dist((a.values[f"point:{n}.x"], a.values[f"point:{n}.y"]), (b.values[f"point:{n}.x"], b.values[f"point:{n}.y"])) for n in names)
+    if far <= chord or depth == 0:
+        return [b]
+    try:
+        middle = kin.at({**a.inputs, joint: (a.inputs[joint] + b.inputs[joint]) / 2}, a.state)
+    except DomesError:
+        return [b]
+    return _fill(kin, joint, a, middle, names, chord, depth - 1) + _fill(kin, joint, middle, b, names, chord, depth - 1)
 
 
 def pose_input(mech: Mechanism) -> float:
