@@ -38,7 +38,7 @@ Point = tuple[float, float]
 #: Default drawing size (user units).
 SIZE = 400.0
 #: Halvings of a sweep step at most, where a traced point moves more than ``step · size`` in one step.
-REFINE_DEPTH = 8
+REFINE_DEPTH = 12
 #: Colours of successive coupler curves.
 CURVE_COLOURS = ("#c1121f", "#2a9d8f", "#e76f51", "#6a4c93", "#1982c4")
 
