@@ -272,8 +272,6 @@ def dimensioned_svg(
     middle = tuple(sum(c) / len(fitted) for c in zip(*(frame(q) for q in fitted)))
 
     items: list[str] = [HATCH]
-    for k, curve in enumerate(curves):
-        items.extend(_curve_items(curve, frame, CURVE_COLOURS[k % len(CURVE_COLOURS)], s))
     in_cylinders = {x for name in cylinders for x in mech.joint(name).links}
     for link in mech.links:
         if link not in in_cylinders:
@@ -281,6 +279,8 @@ def dimensioned_svg(
     for name, (a, b) in cylinders.items():
         ends = frame(p.joints[a]), frame(p.joints[name]), frame(p.joints[b])
         items.append(tag("g", {"class": "member cylinder", "data-joint": name, "data-links": "-".join(mech.joint(name).links)}, symbols.cylinder(*ends, s)))
+    for k, curve in enumerate(curves):
+        items.extend(_curve_items(curve, frame, CURVE_COLOURS[k % len(CURVE_COLOURS)], s))
     if dimensions:
         for link in mech.links:
             if link not in in_cylinders:
