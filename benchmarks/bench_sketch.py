@@ -5,7 +5,8 @@ Run ``python benchmarks/bench_sketch.py``. For each one-DOF atlas and each
 prints the time per chain and, over the planar chains, the worst closest-
 joint distance (fraction of the median link size; higher is better) and the
 worst and median ratio of the largest to the smallest link (lower is better).
-The next rows time the whole HTML atlas page. The last table times the
+The next rows time the whole HTML atlas page, and the candidates' page of
+three regeneration scenes (the regeneration itself not counted). The last table times the
 dimensioned drawing with coupler curves (:func:`domes.sketch.dimensioned_svg`)
 for each accuracy preset of the kinematics backend (its sweep resolution is
 the knob) and gives the chordal error of the drawn polyline: the largest
@@ -27,7 +28,8 @@ sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 from domes.chains import chains  # noqa: E402
 from domes.kinematics import load_mechanism, sweep  # noqa: E402
-from domes.sketch import chain_atlas_html, coupler_curves, dimensioned_svg, layout_quality, skeleton_layout  # noqa: E402
+from domes.regeneration import load_scene, regenerate  # noqa: E402
+from domes.sketch import chain_atlas_html, coupler_curves, dimensioned_svg, layout_quality, regeneration_html, skeleton_layout  # noqa: E402
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "mechanisms")
 CURVES = [("four-bar.json", "P"), ("eight-bar-class-iv.json", "K"), ("swing-arm-shock.json", "axle")]
@@ -54,6 +56,11 @@ def main() -> None:
         start = time.perf_counter()
         page = chain_atlas_html(atlas)
         print(f"atlas page, {links}-bar: {time.perf_counter() - start:.2f} s, {len(page) / 1e6:.2f} MB")
+    for scene in ("motorcycle", "motorcycle-8bar", "tyre-drum"):
+        result = regenerate(load_scene(scene))
+        start = time.perf_counter()
+        page = regeneration_html(result)
+        print(f"candidates page, {scene} ({len(result.candidates)}): {time.perf_counter() - start:.2f} s, {len(page) / 1e6:.2f} MB")
     coupler_table()
 
 
