@@ -6,8 +6,9 @@ The joint positions come from the kinematics backend (:mod:`domes.kinematics`):
 :func:`dimensioned_svg` draws both. Links are drawn through their joints
 and coupler points (a bar for two points, a plate for more), the ground
 hatched with a fixed pivot at each of its R joints, P joints as a slider
-block on a rail that starts at the guide's slide origin, the input marked
-with an arrow, every bar with its length. A curve stops where its sweep
+block on a rail that starts at the guide's slide origin (or as
+cylinder-and-rod), the input marked with an arrow, every side with its
+length. A curve stops where its sweep
 stops (a limit or other dead point, marked with a cross); it is closed only
 when the input turns fully and the point comes back to where it started.
 
@@ -32,7 +33,7 @@ from domes.kinematics import CouplerPoint, DeadPoint, Kinematics, Mechanism, sol
 from domes.sketch import symbols
 from domes.sketch.draw import INK, PLATE_FILL, Frame
 from domes.sketch.mechanism import HATCH
-from domes.sketch.svg import document, num, points, tag
+from domes.sketch.svg import document, num, path_data, points, tag
 
 Point = tuple[float, float]
 #: Default drawing size (user units).
@@ -120,7 +121,7 @@ def pose(mech: Mechanism, q: float | None = None, *, accuracy=None) -> Pose:
         guides[joint] = ((ox, oy), ((ax - ox) / length, (ay - oy) / length))
     joints = {j.name: at[j.name] for j in mech.joints}
     coupler = {p.name: at[p.name] for p in mech.points}
-    return Pose(next(iter(step.inputs.values())), joints, coupler, guides, step.residual, step.condition)
+    return Pose(step.inputs[mech.inputs[0].joint], joints, coupler, guides, step.residual, step.condition)
 
 
 def _end_point(mech: Mechanism, outputs: list[str], dead: DeadPoint, start: float, accuracy):
@@ -264,12 +265,11 @@ def dimensioned_svg(
     outlines = {link: _outline(mech, p, link) for link in mech.links}
     cylinders = _cylinders(mech)
     rails = {name: (origin, p.joints[name]) for name, (origin, _) in p.guides.items() if name not in cylinders}
-    fitted = [q for pts in outlines.values() for q in pts] + [q for c in curves for q in c.path]
-    frame = Frame.fit(fitted + [q for rail in rails.values() for q in rail], size, max(40.0, 0.12 * size))
-    sides = sorted(math.dist(a, b) for pts in outlines.values() if len(pts) > 1 for a, b in zip(pts, pts[1:] + pts[:1] if len(pts) > 2 else pts[1:]))
+    fitted = [pt for pts in outlines.values() for pt in pts] + [pt for c in curves for pt in c.path]
+    frame = Frame.fit(fitted + [pt for rail in rails.values() for pt in rail], size, max(40.0, 0.12 * size))
+    sides = sorted(math.dist(a, b) for pts in outlines.values() for a, b in _sides(pts))
     s = min(max(sides[len(sides) // 2] * frame.scale if sides else 0.0, 0.08 * size), 0.16 * size)  # symbol scale
-    ground = [frame(q) for q in outlines[mech.ground]]
-    middle = tuple(sum(c) / len(fitted) for c in zip(*(frame(q) for q in fitted)))
+    middle = tuple(sum(c) / len(fitted) for c in zip(*(frame(pt) for pt in fitted)))
 
     items: list[str] = [HATCH]
     in_cylinders = {x for name in cylinders for x in mech.joint(name).links}
@@ -318,7 +318,7 @@ def _label(x: float, y: float, text: str, cls: str, attrs: dict, size: str = "10
 
 
 def _link_items(link: str, pts: list[Point], grounded: bool, s: float, middle: Point) -> list[str]:
-    """A link as a bar or plate (hatched when it is the ground), a bar with its length written beside it."""
+    """A link as a bar or plate through its points, hatched (a bar also with hatch strokes) when it is the ground."""
     if len(pts) < 2:
         return []
     if grounded:
@@ -336,11 +336,15 @@ def _link_items(link: str, pts: list[Point], grounded: bool, s: float, middle: P
     return items
 
 
+def _sides(pts: list[Point]) -> list[tuple[Point, Point]]:
+    """The sides of an outline: one for a bar, all around a plate."""
+    return list(zip(pts, pts[1:] + pts[:1])) if len(pts) > 2 else list(zip(pts, pts[1:]))
+
+
 def _dimensions(link: str, pts: list[Point], frame: Frame) -> list[str]:
     """The length of each side of a link's outline (in the file's unit), written beside the side's middle."""
-    pairs = list(zip(pts, pts[1:] + pts[:1])) if len(pts) > 2 else list(zip(pts, pts[1:]))
     items = []
-    for a, b in pairs:
+    for a, b in _sides(pts):
         (x1, y1), (x2, y2) = frame(a), frame(b)
         length = math.hypot(x2 - x1, y2 - y1)
         if length < 1e-9:
@@ -365,6 +369,6 @@ def _curve_items(curve: CouplerCurve, frame: Frame, colour: str, s: float) -> li
         ends = [end for end, dead in ((path[0], curve.first), (path[-1], curve.last)) if dead is not None]
         r = 0.06 * s
         for x, y in ends:
-            d = f"M {num(x - r)} {num(y - r)} L {num(x + r)} {num(y + r)} M {num(x - r)} {num(y + r)} L {num(x + r)} {num(y - r)}"
+            d = path_data([("M", (x - r, y - r)), ("L", (x + r, y + r)), ("M", (x - r, y + r)), ("L", (x + r, y - r))])
             items.append(tag("path", {"class": "dead-point", "data-point": curve.point, "d": d, "stroke": colour, "stroke-width": "2"}))
     return items
