@@ -151,7 +151,8 @@ def candidate_card(candidate) -> Card:
     """The card of one regenerated candidate (``domes.regeneration.Candidate``): its sketch and where it came from.
 
     A candidate equal to an existing design gets the badge ``existing design``
-    (a red frame) and the design's name among its properties.
+    (a red frame) and the design's name among its properties. Should the
+    sketch fail, the card gets a placeholder and the reason.
     """
     m = candidate.mechanism
     name = Chain(m.n, m.edges).common_name
@@ -161,7 +162,11 @@ def candidate_card(candidate) -> Card:
         ("joints", " ".join(f"{u}-{v}" for u, v in m.edges)),
     )
     badge = "existing design" if candidate.existing else None
-    return mechanism_card(candidate.id, m, title=f"Candidate {candidate.id}", properties=properties, badge=badge)
+    title = f"Candidate {candidate.id}"
+    try:
+        return mechanism_card(candidate.id, m, title=title, properties=properties, badge=badge)
+    except DomesError as exc:  # the page is still written; the card says why there is no drawing
+        return Card(str(candidate.id), title, not_drawn_svg(str(exc)), (*properties, ("drawing", f"not drawn: {exc}")), badge)
 
 
 def regeneration_html(result, *, new_only: bool = False) -> str:

@@ -106,3 +106,17 @@ def test_regeneration_page_is_byte_identical_across_processes():
         run = subprocess.run([sys.executable, "-m", "domes", "regenerate", "motorcycle", "--format", "html"], cwd=ROOT, env=env, capture_output=True, check=True)
         pages.append(run.stdout)
     assert pages[0] == pages[1] and pages[0].startswith(b"<!DOCTYPE html>")
+
+
+def test_a_candidate_that_cannot_be_drawn_gets_a_placeholder_card(monkeypatch, capsys):
+    import domes.sketch.atlas as atlas
+    from domes.errors import DomesError
+
+    def refuse(*args, **kwargs):
+        raise DomesError("no planar part found")
+
+    monkeypatch.setattr(atlas, "mechanism_svg", refuse)
+    assert main(["regenerate", "motorcycle", "--format", "html"]) == 0
+    page = capsys.readouterr().out
+    assert len(_cards(page)) == 6 and page.count('class="not-drawn"') == 6
+    assert "not drawn: no planar part found" in page and page.count('class="card marked"') == 1
