@@ -7,8 +7,10 @@ import xml.etree.ElementTree as ET
 
 import networkx as nx
 
+import domes.sketch.atlas as atlas
 from domes.chains import chains
 from domes.cli import main
+from domes.errors import DomesError
 
 XHTML = "{http://www.w3.org/1999/xhtml}"
 SVG = "{http://www.w3.org/2000/svg}"
@@ -109,9 +111,6 @@ def test_regeneration_page_is_byte_identical_across_processes():
 
 
 def test_a_candidate_that_cannot_be_drawn_gets_a_placeholder_card(monkeypatch, capsys):
-    import domes.sketch.atlas as atlas
-    from domes.errors import DomesError
-
     def refuse(*args, **kwargs):
         raise DomesError("no planar part found")
 
