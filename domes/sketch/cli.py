@@ -100,12 +100,17 @@ def write_text(text: str, path: str | None) -> None:
         raise
 
 
+def _size(given: float | None, default: float) -> float:
+    size = default if given is None else given
+    if not 40 <= size <= 4000:
+        raise DomesError(f"--size must be between 40 and 4000 pixels, got {size}")
+    return size
+
+
 def run_draw(args: argparse.Namespace) -> int:
     if args.graph6.lower().endswith(".json"):
         return draw_mechanism_file(args)
-    args.size = 220.0 if args.size is None else args.size
-    if not 40 <= args.size <= 4000:
-        raise DomesError(f"--size must be between 40 and 4000 pixels, got {args.size}")
+    args.size = _size(args.size, 220.0)
     given = [name for name, value in (("--at", args.at), ("--coupler", args.coupler), ("--sweep", args.sweep)) if value not in (None, [])]
     if given:
         raise DomesError(f"{', '.join(given)}: only for a mechanism file (FILE.json), not for a chain")
@@ -127,9 +132,7 @@ def draw_mechanism_file(args: argparse.Namespace) -> int:
     given = [name for name, value in (("--ground", args.ground), ("--input", args.input), ("--role", args.role), ("--joint", args.joint), ("--graph", args.graph)) if value]
     if given:
         raise DomesError(f"{', '.join(given)}: only for a chain (graph6); a mechanism file has its own ground, inputs and joints")
-    size = 400.0 if args.size is None else args.size
-    if not 40 <= size <= 4000:
-        raise DomesError(f"--size must be between 40 and 4000 pixels, got {size}")
+    size = _size(args.size, 400.0)
     mech = load_mechanism(args.graph6)
     scale = math.radians if mech.joint(mech.inputs[0].joint).kind == "R" else float
     q = None if args.at is None else scale(args.at)
