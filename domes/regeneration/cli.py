@@ -23,7 +23,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "SCENE is a scene name (knowledge/scenes/NAME.toml) or a scene file.",
     )
     p.add_argument("scene", metavar="SCENE", help="scene name or file")
-    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("--format", choices=("text", "json", "html"), default="text",
+                   help="text (default), json, or an HTML atlas page with a sketch of every candidate")
     p.add_argument("--new-only", action="store_true", help="leave out candidates equal to an existing design")
     p.set_defaults(func=run_regenerate)
 
@@ -85,6 +86,10 @@ def run_regenerate(args: argparse.Namespace) -> int:
     if args.format == "json":
         json.dump(result.as_dict(new_only=args.new_only), sys.stdout, indent=1)
         sys.stdout.write("\n")
+    elif args.format == "html":
+        from domes.sketch.atlas import regeneration_html  # the drawing stage, loaded only when asked
+
+        sys.stdout.write(regeneration_html(result, new_only=args.new_only))
     else:
         print_regeneration(result, args.new_only)
     return 0

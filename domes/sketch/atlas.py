@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Iterable, Sequence
 
+from domes.chains.chain import Chain
 from domes.errors import DomesError
 from domes.sketch.draw import SIZE, chain_svg
 from domes.sketch.layout import SkeletonLayout, skeleton_layout
@@ -144,3 +145,46 @@ def chain_atlas_html(chains: Sequence, title: str | None = None, *, graph: bool 
         title = f"{len(chains)} chains" + (f": {first.links} links, DOF {first.dof}" if first else "")
     cards = [chain_card(i, c, graph=graph) for i, c in enumerate(chains, 1)]
     return atlas_html(cards, title, f"{len(cards)} chains, each drawn as a mechanism skeleton (plates and bars, joints as circles).")
+
+
+def candidate_card(candidate) -> Card:
+    """The card of one regenerated candidate (``domes.regeneration.Candidate``): its sketch and where it came from.
+
+    A candidate equal to an existing design gets the badge ``existing design``
+    (a red frame) and the design's name among its properties. Should the
+    sketch fail, the card gets a placeholder and the reason.
+    """
+    m = candidate.mechanism
+    name = Chain(m.n, m.edges).common_name
+    properties = (
+        ("chain", f"No. {candidate.chain_index}" + (f" ({name})" if name else "")),
+        ("existing", "; ".join(candidate.existing) if candidate.existing else "no (new)"),
+        ("joints", " ".join(f"{u}-{v}" for u, v in m.edges)),
+    )
+    badge = "existing design" if candidate.existing else None
+    title = f"Candidate {candidate.id}"
+    try:
+        return mechanism_card(candidate.id, m, title=title, properties=properties, badge=badge)
+    except DomesError as exc:  # the page is still written; the card says why there is no drawing
+        return Card(str(candidate.id), title, not_drawn_svg(str(exc)), (*properties, ("drawing", f"not drawn: {exc}")), badge)
+
+
+def regeneration_html(result, *, new_only: bool = False) -> str:
+    """The atlas page of a regeneration (``domes.regeneration.Regeneration``): one card per candidate.
+
+    >>> from domes.regeneration import load_scene, regenerate
+    >>> page = regeneration_html(regenerate(load_scene("motorcycle")))
+    >>> page.count('data-id="'), page.count('class="card marked"')
+    (6, 1)
+    """
+    scene = result.scene
+    shown = [c for c in result.candidates if not (new_only and c.existing)]
+    existing = sum(1 for c in result.candidates if c.existing)
+    stages = ", ".join(f"{s.name} {s.count}" for s in result.stages)
+    summary = (
+        f"{len(result.candidates)} candidates ({existing} existing, {len(result.candidates) - existing} new) "
+        f"on the {scene.links}-link chains of DOF {scene.dof}; stages: {stages}."
+        + (f" Source: {scene.source}." if scene.source else "")
+        + (" Existing designs left out." if new_only else "")
+    )
+    return atlas_html([candidate_card(c) for c in shown], f"{scene.title} [{scene.name}]", summary)

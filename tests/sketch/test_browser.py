@@ -10,7 +10,9 @@ import subprocess
 import pytest
 
 from domes.chains import chains
+from domes.regeneration import load_scene, regenerate
 from domes.sketch import chain_atlas_html
+from domes.sketch.atlas import regeneration_html
 
 CHROMIUM = "/usr/bin/chromium"
 pytestmark = pytest.mark.skipif(not os.path.exists(CHROMIUM), reason="needs the Debian package chromium (/usr/bin/chromium)")
@@ -52,6 +54,46 @@ def test_every_card_of_the_ten_bar_atlas_renders(tmp_path):
         assert float(width) > 100 and float(height) > 100, card
         assert float(drawn_w) > 50 and float(drawn_h) > 50, card
         assert int(joints) == 13, card
+
+
+#: Per card of a candidates page: id, drawing size, hatched ground, shock absorbers, swing-arm labels, marked.
+CANDIDATE_PROBE = """<script>
+window.addEventListener("load", function () {
+  var rows = [];
+  document.querySelectorAll(".card").forEach(function (card) {
+    var svg = card.querySelector("svg");
+    var box = svg.getBoundingClientRect();
+    var shock = svg.querySelector(".member.shock");
+    var shockBox = shock ? shock.getBBox() : {width: 0, height: 0};
+    var arms = Array.prototype.filter.call(svg.querySelectorAll("text.role"), function (t) { return t.textContent === "swing arm"; });
+    rows.push([card.dataset.id, box.width, box.height, svg.querySelectorAll('.link[fill="url(#hatch)"]').length,
+               svg.querySelectorAll(".ground-pivot").length, Math.max(shockBox.width, shockBox.height), arms.length,
+               card.classList.contains("marked") ? 1 : 0].join(" "));
+  });
+  var pre = document.createElement("pre");
+  pre.id = "report";
+  pre.textContent = rows.join("\\n");
+  document.body.appendChild(pre);
+});
+</script>"""
+
+
+def test_every_card_of_the_motorcycle_page_renders(tmp_path):
+    # seed 002 §4-1 Fig. 4-12: the six candidates, ground hatched with its pivots, the shock absorber
+    # drawn, the swing arm written; exactly one card (the Suzuki RM-250X) marked as existing
+    page = regeneration_html(regenerate(load_scene("motorcycle"))).replace("</body>", CANDIDATE_PROBE + "</body>")
+    path = tmp_path / "motorcycle.html"
+    path.write_text(page, encoding="utf-8")
+    dom = _chromium("--virtual-time-budget=10000", "--dump-dom", path.as_uri()).stdout
+    report = re.search(r'<pre id="report">(.*?)</pre>', dom, re.S)
+    assert report, "the probe script did not run"
+    rows = [line.split() for line in report.group(1).strip().splitlines()]
+    assert [r[0] for r in rows] == ["1", "2", "3", "4", "5", "6"]
+    for card, width, height, hatched, pivots, shock, arms, _ in rows:
+        assert float(width) > 100 and float(height) > 100, card
+        assert int(hatched) == 1 and int(pivots) >= 2, card
+        assert float(shock) > 20 and int(arms) == 1, card
+    assert [int(r[-1]) for r in rows] == [0, 1, 0, 0, 0, 0]
 
 
 def test_screenshot_of_the_atlas(tmp_path):
