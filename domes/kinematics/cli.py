@@ -44,7 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
+def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
     parts = text.split(":")
     if len(parts) not in (2, 3):
         raise DomesError(f"--sweep: expected START:STOP or START:STOP:STEP, got {text!r}")
@@ -67,7 +67,7 @@ def run(args: argparse.Namespace) -> int:
     to_in = math.radians if angular and deg else float
     from_in = math.degrees if angular and deg else float
     if args.sweep:
-        start, stop, step = _parse_sweep(args.sweep, to_in)
+        start, stop, step = parse_sweep(args.sweep, to_in)
     else:
         q = kin.drawn_inputs()[joint] if joint in kin.drawn_inputs() else None
         if q is None:

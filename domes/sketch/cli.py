@@ -11,7 +11,7 @@ import tempfile
 from domes.chains.chain import Chain
 from domes.errors import DomesError
 from domes.kinematics import PRESETS, load_mechanism
-from domes.kinematics.cli import _parse_sweep as parse_sweep
+from domes.kinematics.cli import parse_sweep
 from domes.labelled import JOINT_TYPES, LabelledChain
 from domes.sketch.atlas import Card, atlas_html, chain_card, mechanism_card
 from domes.sketch.dimensioned import dimensioned_svg
