@@ -11,7 +11,7 @@ from pathlib import Path
 
 from domes.errors import DomesError
 from domes.expert.replay import record, replay, scratch_casebase
-from domes.expert.session import Session, parse_answers, read_answers, write_transcript
+from domes.expert.session import Session, read_answers, write_transcript
 from domes.expert.world import frame_text
 from domes.knowledge.store import DB_ENV, KnowledgeBase
 from domes.labelled.mechanism import write_atomic

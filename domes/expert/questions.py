@@ -16,6 +16,7 @@ from typing import Any, Callable
 
 from domes.errors import DomesError
 from domes.knowledge.language import normalise_name, parse_criterion
+from domes.labelled.graph import LabelledChain
 from domes.regeneration.scene import scene_names
 
 
@@ -145,7 +146,7 @@ STATIC = {
 }
 
 
-def verify_parser(kept: dict[int, "LabelledChain"]):
+def verify_parser(kept: dict[int, LabelledChain]):
     """``none``, or ``CANDIDATE FILE CHECK`` (see :mod:`domes.expert.verify`)."""
     from domes.expert.verify import load_for, parse_check
 

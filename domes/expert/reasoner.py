@@ -55,6 +55,11 @@ class Match:
     shared: frozenset[str]  # representative attributes in common
 
 
+def recognise(problem: ProblemFrame, solved: list[ProblemFrame]) -> ProblemFrame | None:
+    """The most recently solved problem that is the *same* as ``problem``, if any."""
+    return next((s for s in reversed(solved) if relation(problem, s) == "same"), None)
+
+
 def retrieve(problem: ProblemFrame, solved: list[ProblemFrame]) -> list[Match]:
     """The solved problems of the same class, best first: same, then similar, then different;
     within each, most representative attributes in common, then most recently solved."""

@@ -15,7 +15,6 @@ see ``examples/design/*.answers``.
 from __future__ import annotations
 
 import json
-import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -24,10 +23,10 @@ from domes.errors import DomesError
 from domes.expert.engine import DesignExpert
 from domes.expert.questions import STATIC, Question, overrides_parser, parse_scene, relation_parser, verify_parser
 from domes.labelled.graph import LabelledChain
-from domes.expert.reasoner import relation as case_relation
 from domes.expert.world import World
 from domes.knowledge.problems import ProblemFrame
 from domes.labelled.mechanism import write_atomic
+from domes.regeneration.scene import scene_names
 
 TRANSCRIPT_FORMAT = "domes-design-transcript/1"
 
@@ -131,7 +130,7 @@ class Session:
             _, case = self.world.relation
             default = self.world.case(case).scene if case else None
             slug = problem_class.replace("_", "-")
-            known = parse_scene_names()
+            known = scene_names()
             default = default or next((s for s in known if slug == s or slug.startswith(s)), None)
             return Question("scene", f"Scene whose rules give the links their roles ({', '.join(known)}, or none)",
                             parse_scene, default or "none")
@@ -203,12 +202,6 @@ class Session:
         return Outcome(relation, case, frame, self.exchanges)
 
 
-def parse_scene_names() -> list[str]:
-    from domes.regeneration.scene import scene_names
-
-    return scene_names()
-
-
 def rejected_text(world: World) -> str:
     run = world.run_result
     if run is None or not run.rejected:
@@ -222,8 +215,3 @@ def rejected_text(world: World) -> str:
 def write_transcript(path: str | Path, outcome: Outcome) -> None:
     """The session's transcript (answers, outcome, frame) as JSON, written atomically."""
     write_atomic(Path(path), json.dumps(outcome.transcript(), indent=1, ensure_ascii=False) + "\n")
-
-
-def recognise(frame: ProblemFrame, solved: list[ProblemFrame]) -> ProblemFrame | None:
-    """A solved problem with the same attributes, if any (the case-based reasoner's "same")."""
-    return next((s for s in reversed(solved) if case_relation(frame, s) == "same"), None)

@@ -15,10 +15,11 @@ from typing import Callable
 
 from domes.errors import DomesError
 from domes.expert.design import DesignRun, design
-from domes.expert.facts import STRUCTURAL
+from domes.expert.facts import STRUCTURAL, Phase, Relation
+from domes.expert.reasoner import recognise
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
-from domes.knowledge.relevance import RelevanceVector, relevance_vector
+from domes.knowledge.relevance import relevance_vector
 from domes.knowledge.store import KnowledgeBase
 from domes.synthesis.number import number_synthesis
 
@@ -65,8 +66,6 @@ class World:
 
     def answered(self, engine, question: str, value) -> None:
         """Turn a validated answer into facts (or a change of phase)."""
-        from domes.expert.facts import Phase, Relation
-
         if question == "relation":
             relation, case = value
             self.relation = (relation, case)
@@ -99,8 +98,6 @@ class World:
 
     @staticmethod
     def _leave_phase(engine, name: str) -> None:
-        from domes.expert.facts import Phase
-
         for fact_id, fact in list(engine.facts.items()):
             if isinstance(fact, Phase) and fact["name"] == name:
                 engine.retract(fact_id)
@@ -134,8 +131,6 @@ class World:
 
     def recognise(self, engine) -> str | None:
         """The id of a solved problem with the same class, structure and attributes, if any."""
-        from domes.expert.session import recognise
-
         problem = self.problem(engine)
         match = recognise(problem, self.solved())
         if match is not None:

@@ -18,7 +18,7 @@ criterion that removed each, and its provenance.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Mapping
 
 from domes.errors import DomesError

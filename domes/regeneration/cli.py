@@ -10,7 +10,7 @@ from domes.chains.chain import Chain
 from domes.chains.generate import atlas
 from domes.labelled.generalize import generalize
 from domes.labelled.mechanism import Mechanism
-from domes.regeneration.scene import load_scene, scene_names
+from domes.regeneration.scene import load_scene
 from domes.regeneration.specialize import Regeneration, regenerate
 
 

@@ -47,11 +47,6 @@ class StageResult:
     raw: int
     book: int | None = None
 
-    @property
-    def divergence(self) -> float:
-        """Not set here: see :meth:`Regeneration.divergence_numbers`."""
-        return float(self.raw)
-
 
 @dataclass(frozen=True)
 class Candidate:

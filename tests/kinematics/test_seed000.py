@@ -229,7 +229,7 @@ def test_t2_six_bar_assembly_matches_the_symbolic_matrices():
     values = step.state
     _, J = kin._assemble(g, values)
     B = np.concatenate([evaluate(loop, values)[1].get("q:a", [0.0, 0.0]) for loop in g.loops])
-    p1, (p2, p3, p5, s) = math.radians(60), T6[60][:4]
+    p1, (p2, p3, p5, _) = math.radians(60), T6[60][:4]
     al, l1, l2, l3d, l3, l5, guide = math.radians(60), 1.0, 3.5, 2.5, 2.0, 4.0, 0.0
     Jp = np.array([[-l2 * math.sin(p2), l3d * math.sin(p3 + al), 0, 0],
                    [l2 * math.cos(p2), -l3d * math.cos(p3 + al), 0, 0],
