@@ -1,15 +1,68 @@
-"""Errors raised by DOMES-py.
+"""Errors raised by DOMES-py: one hierarchy, three kinds of failure.
 
-Every error says what was wrong and, where it helps, what to do instead.
-The command-line interface prints the message and exits with status 2.
+* :class:`InputError` -- the input is wrong (a file, an argument, a value):
+  the message says what and where, and what to do instead;
+* :class:`NumericalError` -- the input is fine but the numbers cannot be
+  trusted or found (a dead point, a singular Jacobian, no convergence): the
+  message names the place, and the exception carries the diagnostics
+  (``kind``, ``residual``, ``condition``, ``where``);
+* :class:`NothingToPropose` -- a stage ran correctly and found no candidate
+  (a scene stage whose rules hold on no chain).
+
+None of them is a :class:`ValueError`: a dead point is not bad input. The
+command line prints the message of any :class:`DomesError` and exits with
+status 2.
+
+>>> raise InputError("links must be >= 2, got 1")
+Traceback (most recent call last):
+...
+domes.errors.InputError: links must be >= 2, got 1
+>>> issubclass(NumericalError, ValueError), issubclass(NumericalError, DomesError)
+(False, True)
 """
 
+from __future__ import annotations
 
-class DomesError(ValueError):
-    """Bad input to DOMES-py: the message says what and where.
+import math
+from typing import Any, Mapping
 
-    >>> raise DomesError("links must be >= 2, got 1")
-    Traceback (most recent call last):
-    ...
-    domes.errors.DomesError: links must be >= 2, got 1
+
+class DomesError(Exception):
+    """Every error DOMES-py raises on purpose; the message says what and where."""
+
+
+class InputError(DomesError):
+    """Bad input to DOMES-py: the message says what was wrong, where, and what to do."""
+
+
+class NumericalError(DomesError):
+    """A numerical failure, with the numbers that show it.
+
+    ``kind`` names the failure (e.g. ``limit``, ``undetermined``, ``newton``,
+    ``jump``); ``residual`` and ``condition`` are the last loop-closure
+    residual and condition number known (NaN when not known); ``where`` holds
+    what locates it (a group, joints, an input value).
+
+    >>> e = NumericalError("Jacobian singular", kind="newton", condition=math.inf, where={"joints": ("B", "C")})
+    >>> e.kind, e.condition, e.where["joints"]
+    ('newton', inf, ('B', 'C'))
     """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        kind: str = "numerical",
+        residual: float = math.nan,
+        condition: float = math.nan,
+        where: Mapping[str, Any] | None = None,
+    ):
+        super().__init__(message)
+        self.kind = kind
+        self.residual = residual
+        self.condition = condition
+        self.where = dict(where or {})
+
+
+class NothingToPropose(DomesError):
+    """A stage found no candidate to propose; the message says which rule or criterion left none."""

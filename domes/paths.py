@@ -13,7 +13,7 @@ import os
 from pathlib import Path
 
 import domes
-from domes.errors import DomesError
+from domes.errors import InputError
 
 KNOWLEDGE_ENV = "DOMES_KNOWLEDGE"
 
@@ -22,7 +22,7 @@ def repo_root() -> Path:
     """The checkout that holds the ``domes`` package (installed editable), with pyproject.toml."""
     root = Path(domes.__file__).resolve().parent.parent
     if not (root / "pyproject.toml").is_file():
-        raise DomesError(
+        raise InputError(
             f"cannot find the DOMES-py checkout (no pyproject.toml in {root}); "
             f"give the case base with --db or DOMES_DB and the sources with {KNOWLEDGE_ENV}"
         )
@@ -34,5 +34,5 @@ def knowledge_dir(path: str | Path | None = None) -> Path:
     chosen = path or os.environ.get(KNOWLEDGE_ENV)
     folder = Path(chosen) if chosen else repo_root() / "knowledge"
     if not folder.is_dir():
-        raise DomesError(f"knowledge folder {folder} does not exist (set {KNOWLEDGE_ENV} or pass --from)")
+        raise InputError(f"knowledge folder {folder} does not exist (set {KNOWLEDGE_ENV} or pass --from)")
     return folder

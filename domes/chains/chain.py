@@ -20,7 +20,7 @@ from domes.chains.canon import Automorphisms, automorphisms, canonical_form
 from domes.chains.charpoly import characteristic_polynomial
 from domes.chains.rigidity import rigid_subchain, subset_dof_table, subset_sizes
 from domes.chains.structural import structural_number
-from domes.errors import DomesError
+from domes.errors import InputError
 
 Edge = tuple[int, int]
 
@@ -50,14 +50,14 @@ class Chain:
             try:
                 u, v = (int(x) for x in edge)
             except (TypeError, ValueError):
-                raise DomesError(f"joint {index}: {edge!r} is not a pair of link numbers") from None
+                raise InputError(f"joint {index}: {edge!r} is not a pair of link numbers") from None
             if not (0 <= u < self.n and 0 <= v < self.n):
-                raise DomesError(f"joint {index}: ({u}, {v}) names a link outside 0..{self.n - 1}")
+                raise InputError(f"joint {index}: ({u}, {v}) names a link outside 0..{self.n - 1}")
             if u == v:
-                raise DomesError(f"joint {index}: link {u} cannot be jointed to itself")
+                raise InputError(f"joint {index}: link {u} cannot be jointed to itself")
             key = (min(u, v), max(u, v))
             if key in seen:
-                raise DomesError(f"joint {index}: links {key[0]} and {key[1]} are already jointed (simple joints only)")
+                raise InputError(f"joint {index}: links {key[0]} and {key[1]} are already jointed (simple joints only)")
             seen.add(key)
             clean.append(key)
         object.__setattr__(self, "edges", tuple(sorted(clean)))
@@ -68,7 +68,7 @@ class Chain:
     def from_networkx(cls, graph: nx.Graph) -> "Chain":
         """A chain from a networkx graph (any hashable node labels, relabelled ``0..n−1`` in sorted order when possible)."""
         if graph.is_directed() or graph.is_multigraph():
-            raise DomesError("a chain is a simple undirected graph: convert with nx.Graph(graph) first")
+            raise InputError("a chain is a simple undirected graph: convert with nx.Graph(graph) first")
         nodes = list(graph.nodes)
         try:
             nodes.sort()
@@ -90,7 +90,7 @@ class Chain:
         try:
             graph = nx.from_graph6_bytes(raw.encode("ascii"))
         except (ValueError, UnicodeEncodeError, nx.NetworkXError) as exc:
-            raise DomesError(f"{text!r} is not a graph6 string: {exc}") from None
+            raise InputError(f"{text!r} is not a graph6 string: {exc}") from None
         return cls.from_networkx(graph)
 
     def to_networkx(self) -> nx.Graph:

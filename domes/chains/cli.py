@@ -8,7 +8,7 @@ import sys
 
 from domes.chains.chain import Chain
 from domes.chains.generate import ISOMORPHISM_METHODS, ChainGenerator
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.synthesis.number import chain_joints
 
 #: Atlases from this many links on are very large: ask before building them.
@@ -76,11 +76,11 @@ def _confirm_large(links: int, dof: int, include_fractionated: bool) -> None:
         "taking a long time and much memory"
     )
     if not sys.stdin.isatty():
-        raise DomesError(message + "; pass --yes to build it anyway")
+        raise InputError(message + "; pass --yes to build it anyway")
     print(f"domes chains: {message}.", file=sys.stderr)
     answer = input("Build it? [y/N] ").strip().lower()
     if answer not in ("y", "yes"):
-        raise DomesError("not built (answer was not 'yes')")
+        raise InputError("not built (answer was not 'yes')")
 
 
 def _text_line(index: int, chain: Chain) -> str:
@@ -91,17 +91,17 @@ def _text_line(index: int, chain: Chain) -> str:
 
 def run_chains(args: argparse.Namespace) -> int:
     if args.dof < 0:
-        raise DomesError(f"--dof must be >= 0, got {args.dof}")
+        raise InputError(f"--dof must be >= 0, got {args.dof}")
     if args.loops is not None:
         if args.loops < 1:
-            raise DomesError(f"--loops must be >= 1, got {args.loops}")
+            raise InputError(f"--loops must be >= 1, got {args.loops}")
         links = args.dof + 2 * args.loops + 1
     else:
         links = args.links
     joints = chain_joints(links, args.dof)
     loops = joints - links + 1
     if loops < 1:
-        raise DomesError(f"{links} links with DOF {args.dof} have {joints} joints and no closed loop; use more links")
+        raise InputError(f"{links} links with DOF {args.dof} have {joints} joints and no closed loop; use more links")
     if links >= LARGE_ATLAS_LINKS and not args.yes:
         _confirm_large(links, args.dof, args.include_fractionated)
     generator = ChainGenerator(isomorphism=args.isomorphism, progress=_progress_printer(args.progress))

@@ -42,7 +42,7 @@ import numpy as np
 from domes.chains.canon import automorphisms, canonical_form, certificate
 from domes.chains.charpoly import characteristic_polynomial
 from domes.chains.rigidity import pair_slack
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.synthesis.number import chain_joints
 
 Edge = tuple[int, int]
@@ -104,7 +104,7 @@ class ChainGenerator:
 
     def __post_init__(self) -> None:
         if self.isomorphism not in ISOMORPHISM_METHODS:
-            raise DomesError(
+            raise InputError(
                 f"unknown isomorphism method {self.isomorphism!r}; choose one of {', '.join(ISOMORPHISM_METHODS)}"
             )
 
@@ -115,7 +115,7 @@ class ChainGenerator:
         joints = chain_joints(links, dof)
         loops = joints - links + 1
         if loops < 1:
-            raise DomesError(f"{links} links with DOF {dof} give {joints} joints: no closed chain (L = {loops})")
+            raise InputError(f"{links} links with DOF {dof} give {joints} joints: no closed chain (L = {loops})")
         if include_fractionated:
             return self._all_chains(loops, dof)
         return self._two_connected(loops, dof)

@@ -21,7 +21,7 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-from domes.errors import DomesError
+from domes.errors import InputError
 
 Edge = tuple[int, int]
 
@@ -45,7 +45,7 @@ def subset_dof_table(n: int, edges: Iterable[Edge]) -> np.ndarray:
     0
     """
     if n > MAX_LINKS:
-        raise DomesError(f"sub-chain tables are limited to {MAX_LINKS} links, got {n}")
+        raise InputError(f"sub-chain tables are limited to {MAX_LINKS} links, got {n}")
     subsets = np.arange(1 << n, dtype=np.int64)
     inside = np.zeros(1 << n, dtype=np.int32)
     for u, v in edges:

@@ -18,7 +18,7 @@ from __future__ import annotations
 import heapq
 from typing import Sequence
 
-from domes.errors import DomesError
+from domes.errors import InputError
 
 Edge = tuple[int, int]
 
@@ -52,7 +52,7 @@ def structural_number(n: int, edges: Sequence[Edge]) -> int:
     True
     """
     if 3 * (n - 1) != 2 * len(edges):
-        raise DomesError(f"K is defined for zero-DOF chains; {n} links and {len(edges)} joints have DOF {3 * (n - 1) - 2 * len(edges)}")
+        raise InputError(f"K is defined for zero-DOF chains; {n} links and {len(edges)} joints have DOF {3 * (n - 1) - 2 * len(edges)}")
     adjacency: list[list[tuple[int, int]]] = [[] for _ in range(n)]
     for index, (u, v) in enumerate(edges):
         adjacency[u].append((v, index))
@@ -84,4 +84,4 @@ def structural_number(n: int, edges: Sequence[Edge]) -> int:
             if best.get(state, 1 << 30) > total:
                 best[state] = total
                 heapq.heappush(queue, (total, state))
-    raise DomesError("the chain is not connected: it has no SOC decomposition")
+    raise InputError("the chain is not connected: it has no SOC decomposition")

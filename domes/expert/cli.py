@@ -9,7 +9,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.expert.replay import record, replay, scratch_casebase
 from domes.expert.session import Session, read_answers, write_transcript
 from domes.expert.world import frame_text
@@ -67,7 +67,7 @@ def run_design(args: argparse.Namespace) -> int:
     if args.resume:
         state = Path(args.resume)
         if not state.is_file():
-            raise DomesError(f"no saved session at {state}")
+            raise InputError(f"no saved session at {state}")
         answers = [(e["question"], e["answer"]) for e in json.loads(state.read_text(encoding="utf-8"))["exchanges"]]
         print(f"Resuming the session saved in {state} ({len(answers)} answers).")
     with tempfile.TemporaryDirectory(prefix="domes-dry-run-") as tmp:
@@ -121,7 +121,7 @@ def run_replay(args: argparse.Namespace) -> int:
     if args.all:
         names += sorted(p.stem for p in (knowledge_dir() / "cases").glob("*.json"))
     if not names:
-        raise DomesError("name the cases to replay, or give --all")
+        raise InputError("name the cases to replay, or give --all")
     failed = 0
     for name in names:
         result = replay(name, args.db, say=print if args.verbose else (lambda text: None))
@@ -141,7 +141,7 @@ def run_record(args: argparse.Namespace) -> int:
     previous = json.loads(target.read_text(encoding="utf-8"))["frame"]["id"] if target.is_file() else None
     outcome = record(answers, previous, args.db, say=print)
     if outcome.frame is None:
-        raise DomesError("the session ended without a result to keep")
+        raise InputError("the session ended without a result to keep")
     write_transcript(target, outcome)
     print(f"Case written to {target}; rebuild the case base with `domes kb build`.")
     return 0

@@ -32,7 +32,7 @@ import dataclasses
 from dataclasses import dataclass
 
 from domes.chains.generate import atlas
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.knowledge.explain import explain
 from domes.knowledge.problems import ProblemFrame
 from domes.knowledge.relevance import RelevanceVector
@@ -88,7 +88,7 @@ def candidates_for(problem: ProblemFrame, links: int, joints: int) -> list[tuple
 def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None) -> DesignRun:
     numbers = number_synthesis(problem.dof, problem.loops, problem.space, problem.gear_pairs or 0)
     if problem.space != 3:
-        raise DomesError("the chain atlas is planar: spatial (λ = 6) problems get their numbers but no chains")
+        raise InputError("the chain atlas is planar: spatial (λ = 6) problems get their numbers but no chains")
     generated = candidates_for(problem, numbers.links, numbers.joints)
     records = [{"id": i, **extra, **chain.to_dict()} for i, (chain, extra) in enumerate(generated, 1)]
     result = screen([chain for chain, _ in generated], criteria, problem, relevance=relevance)
@@ -125,7 +125,7 @@ def design(
     """
     for key in ("dof", "loops"):
         if getattr(problem, key) is None:
-            raise DomesError(f"the problem does not state its {key}: a design needs DOF and independent loops")
+            raise InputError(f"the problem does not state its {key}: a design needs DOF and independent loops")
     first = run = _attempt(problem, criteria, relevance)
     notes = []
     if run.kept or not vary:

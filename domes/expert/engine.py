@@ -19,6 +19,7 @@ gives it one; the session (:mod:`domes.expert.session`) does the asking.
 
 from __future__ import annotations
 
+from domes.errors import InputError
 from domes.expert.compat import AS, MATCH, NOT, DefFacts, KnowledgeEngine, Rule
 from domes.expert.facts import QUESTION_ORDER, STRUCTURAL, Ask, Attr, Needed, Phase, Relation
 
@@ -42,7 +43,7 @@ class DesignExpert(KnowledgeEngine):
     def answer(self, question: str, value) -> None:
         """Record the designer's (already validated) answer and go on."""
         if question != self.pending:
-            raise ValueError(f"the engine asked {self.pending!r}, not {question!r}")
+            raise InputError(f"the engine asked {self.pending!r}, not {question!r}")
         for fact_id, fact in list(self.facts.items()):
             if isinstance(fact, Ask):
                 self.retract(fact_id)

@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Callable
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.knowledge.language import normalise_name, parse_criterion
 from domes.labelled.graph import LabelledChain
 from domes.regeneration.scene import scene_names
@@ -33,9 +33,9 @@ def parse_int_range(low: int, high: int) -> Callable[[str], int]:
         try:
             value = int(text.strip())
         except ValueError:
-            raise DomesError(f"expected a whole number from {low} to {high}, got {text.strip()!r}") from None
+            raise InputError(f"expected a whole number from {low} to {high}, got {text.strip()!r}") from None
         if not low <= value <= high:
-            raise DomesError(f"expected a whole number from {low} to {high}, got {value}")
+            raise InputError(f"expected a whole number from {low} to {high}, got {value}")
         return value
 
     return parse
@@ -47,13 +47,13 @@ def parse_yes_no(text: str) -> bool:
         return True
     if word in ("n", "no"):
         return False
-    raise DomesError(f"answer yes or no, not {text.strip()!r}")
+    raise InputError(f"answer yes or no, not {text.strip()!r}")
 
 
 def parse_class(text: str) -> str:
     name = normalise_name(text)
     if not name or not name.replace("_", "").isalnum():
-        raise DomesError("a problem class is a name of letters, digits and spaces (e.g. motorcycle rear suspension)")
+        raise InputError("a problem class is a name of letters, digits and spaces (e.g. motorcycle rear suspension)")
     return name
 
 
@@ -62,8 +62,8 @@ def parse_space(text: str) -> int:
     if word in ("planar", "3"):
         return 3
     if word in ("spatial", "6"):
-        raise DomesError("spatial mechanisms (λ = 6) are not generated: the chain atlas is planar; answer planar")
-    raise DomesError(f"answer planar or spatial, not {text.strip()!r}")
+        raise InputError("spatial mechanisms (λ = 6) are not generated: the chain atlas is planar; answer planar")
+    raise InputError(f"answer planar or spatial, not {text.strip()!r}")
 
 
 def parse_names(text: str) -> frozenset[str]:
@@ -72,7 +72,7 @@ def parse_names(text: str) -> frozenset[str]:
     names = [normalise_name(n) for n in text.split(",")]
     bad = [n for n in names if not n or not n.replace("_", "").isalnum()]
     if bad:
-        raise DomesError("give names separated by commas (e.g. ground, swing arm, shock absorber)")
+        raise InputError("give names separated by commas (e.g. ground, swing arm, shock absorber)")
     return frozenset(names)
 
 
@@ -82,7 +82,7 @@ def parse_scene(text: str) -> str | None:
         return None
     known = scene_names()
     if word not in known:
-        raise DomesError(f"no scene {word!r}; the scenes are: {', '.join(known)} (or none)")
+        raise InputError(f"no scene {word!r}; the scenes are: {', '.join(known)} (or none)")
     return word
 
 
@@ -97,16 +97,16 @@ def relation_parser(cases: list[str]) -> Callable[[str], tuple[str, str | None]]
     def parse(text: str) -> tuple[str, str | None]:
         words = text.split()
         if not words or words[0].lower() not in ("same", "similar", "different"):
-            raise DomesError("answer same, similar or different (optionally followed by a case id)")
+            raise InputError("answer same, similar or different (optionally followed by a case id)")
         relation = words[0].lower()
         if relation == "different":
             return relation, None
         if len(words) > 1:
             if words[1] not in cases:
-                raise DomesError(f"no case {words[1]!r} in this class; the cases are {', '.join(cases)}")
+                raise InputError(f"no case {words[1]!r} in this class; the cases are {', '.join(cases)}")
             return relation, words[1]
         if len(cases) > 1:
-            raise DomesError(f"say which case: {relation} {cases[0]} (cases: {', '.join(cases)})")
+            raise InputError(f"say which case: {relation} {cases[0]} (cases: {', '.join(cases)})")
         return relation, cases[0]
 
     return parse
@@ -124,7 +124,7 @@ def overrides_parser(ids: list[str]) -> Callable[[str], list[tuple[str, int]]]:
             bit = 0 if word.startswith("-") else 1
             criterion = word.lstrip("+-")
             if criterion not in ids:
-                raise DomesError(f"no criterion {criterion!r} in the knowledge base (see `domes kb list`)")
+                raise InputError(f"no criterion {criterion!r} in the knowledge base (see `domes kb list`)")
             out.append((criterion, bit))
         return out
 
@@ -155,10 +155,10 @@ def verify_parser(kept: dict[int, LabelledChain]):
         if not words or words == ["none"]:
             return None
         if len(words) < 3 or not words[0].isdigit():
-            raise DomesError("answer none, or: CANDIDATE FILE CHECK (e.g. 2 examples/design/suzuki-rm250x.json range slide:g -10:10)")
+            raise InputError("answer none, or: CANDIDATE FILE CHECK (e.g. 2 examples/design/suzuki-rm250x.json range slide:g -10:10)")
         candidate = int(words[0])
         if candidate not in kept:
-            raise DomesError(f"candidate {candidate} is not among those kept ({', '.join(map(str, sorted(kept)))})")
+            raise InputError(f"candidate {candidate} is not among those kept ({', '.join(map(str, sorted(kept)))})")
         check = parse_check(words[2:])
         return candidate, load_for(kept[candidate], words[1]), check, words[1]
 

@@ -17,7 +17,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.expert.session import Outcome, Session, load_transcript
 from domes.knowledge.store import KnowledgeBase, build, database_url, sqlite_path
 from domes.paths import knowledge_dir
@@ -63,7 +63,7 @@ def case_path(name_or_path: str) -> Path:
     if candidate.is_file():
         return candidate
     shipped = sorted(p.stem for p in (knowledge_dir() / "cases").glob("*.json"))
-    raise DomesError(f"no case {name_or_path!r}: not a file, and not one of: {', '.join(shipped)}")
+    raise InputError(f"no case {name_or_path!r}: not a file, and not one of: {', '.join(shipped)}")
 
 
 def scratch_casebase(url: str | None, leave_out: str | None, folder: Path) -> str:

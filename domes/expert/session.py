@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.expert.engine import DesignExpert
 from domes.expert.questions import STATIC, Question, overrides_parser, parse_scene, relation_parser, verify_parser
 from domes.labelled.graph import LabelledChain
@@ -39,7 +39,7 @@ def parse_answers(text: str, where: str = "answers") -> list[tuple[str, str]]:
         if not stripped or stripped.startswith("#"):
             continue
         if ":" not in stripped:
-            raise DomesError(f"{where}:{number}: expected 'question: answer', got {stripped!r}")
+            raise InputError(f"{where}:{number}: expected 'question: answer', got {stripped!r}")
         question, answer = stripped.split(":", 1)
         out.append((question.strip(), answer.strip()))
     return out
@@ -51,7 +51,7 @@ def read_answers(path: str | Path) -> list[tuple[str, str]]:
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise DomesError(f"cannot read {path}: {exc.strerror}") from None
+        raise InputError(f"cannot read {path}: {exc.strerror}") from None
     if path.suffix == ".json":
         data = load_transcript(path, text)
         return [(e["question"], e["answer"]) for e in data["exchanges"]]
@@ -63,11 +63,11 @@ def load_transcript(path: str | Path, text: str | None = None) -> dict:
     try:
         data = json.loads(text if text is not None else path.read_text(encoding="utf-8"))
     except OSError as exc:
-        raise DomesError(f"cannot read {path}: {exc.strerror}") from None
+        raise InputError(f"cannot read {path}: {exc.strerror}") from None
     except json.JSONDecodeError as exc:
-        raise DomesError(f"{path}: not valid JSON: {exc}") from None
+        raise InputError(f"{path}: not valid JSON: {exc}") from None
     if not isinstance(data, dict) or data.get("format") != TRANSCRIPT_FORMAT or not isinstance(data.get("exchanges"), list):
-        raise DomesError(f"{path}: not a design transcript (format {TRANSCRIPT_FORMAT})")
+        raise InputError(f"{path}: not a design transcript (format {TRANSCRIPT_FORMAT})")
     return data
 
 
@@ -142,7 +142,7 @@ class Session:
             ids = list(engine.attr("relevance_default").ids)
             return Question("relevance_overrides", "Override relevance? (none, or criterion ids: ID or +ID relevant, -ID irrelevant)",
                             overrides_parser(ids), "none")
-        raise DomesError(f"the engine asked an unknown question {qid!r}")
+        raise InputError(f"the engine asked an unknown question {qid!r}")
 
     def answer(self, engine: DesignExpert, q: Question):
         """Ask until an answer is valid; return its value."""
@@ -169,11 +169,11 @@ class Session:
             question, text = self.script[self.used]
             self.used += 1
             if question != q.id:
-                raise DomesError(f"answer {self.used} is for {question!r}, but the question is {q.id!r} ({q.prompt})")
+                raise InputError(f"answer {self.used} is for {question!r}, but the question is {q.id!r} ({q.prompt})")
             self.say(prompt + text)
             return text
         if not self.interactive:
-            raise DomesError(f"the answers ended before the question {q.id!r} ({q.prompt})")
+            raise InputError(f"the answers ended before the question {q.id!r} ({q.prompt})")
         return self.read(prompt)
 
     def _record(self, q: Question, text: str, accepted: bool, reason: str = "") -> None:
@@ -196,7 +196,7 @@ class Session:
         frame = self.world.retained or self.world.shown
         if frame is None:
             known = sorted(str(f.get("name", f.get("id", ""))) for f in engine.facts.values() if hasattr(f, "get"))
-            raise DomesError(f"the design dialogue stopped without a result (known: {', '.join(known)})")
+            raise InputError(f"the design dialogue stopped without a result (known: {', '.join(known)})")
         if self.world.shown is not None:
             relation, case = "same", self.world.shown.id
         return Outcome(relation, case, frame, self.exchanges)

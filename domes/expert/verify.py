@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.kinematics import checks
 from domes.kinematics.model import Mechanism, load_mechanism
 from domes.labelled.graph import LabelledChain
@@ -35,9 +35,9 @@ def parse_check(words: list[str]) -> tuple:
         try:
             start, stop = (float(x) for x in words[2].split(":"))
         except ValueError:
-            raise DomesError(f"range FROM:TO must be two numbers, got {words[2]!r}") from None
+            raise InputError(f"range FROM:TO must be two numbers, got {words[2]!r}") from None
         return ("range", words[1], start, stop)
-    raise DomesError("the check is 'rotatability' or 'range OUTPUT FROM:TO'")
+    raise InputError("the check is 'rotatability' or 'range OUTPUT FROM:TO'")
 
 
 def as_labelled(mech: Mechanism) -> LabelledChain:
@@ -67,10 +67,10 @@ def load_for(candidate: LabelledChain, path: str) -> Mechanism:
     if not found.is_file() and not found.is_absolute() and (repo_root() / found).is_file():
         found = repo_root() / found
     if not found.is_file():
-        raise DomesError(f"no mechanism file {path!r}")
+        raise InputError(f"no mechanism file {path!r}")
     mech = load_mechanism(str(found))
     if not matches(candidate, mech):
-        raise DomesError(f"{path} is not this candidate: its chain, joint types or ground differ")
+        raise InputError(f"{path} is not this candidate: its chain, joint types or ground differ")
     return mech
 
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.kinematics.matrices import apply, displacement_matrix
 from domes.kinematics.model import Mechanism
 from domes.kinematics.solve import Kinematics, SolveFailure
@@ -48,10 +48,10 @@ def grashof(mech: Mechanism) -> GrashofResult:
     input turns fully but passes branch points) or ``triple-rocker``.
     """
     if len(mech.links) != 4 or len(mech.joints) != 4 or any(j.kind != "R" for j in mech.joints):
-        raise DomesError(f"{mech.name}: Grashof's criterion applies to four-bars with four R joints")
+        raise InputError(f"{mech.name}: Grashof's criterion applies to four-bars with four R joints")
     inp = mech.joint(mech.inputs[0].joint)
     if mech.ground not in inp.links:
-        raise DomesError(f"{mech.name}: the input joint {inp.name} is not on the ground")
+        raise InputError(f"{mech.name}: the input joint {inp.name} is not on the ground")
     crank = next(x for x in inp.links if x != mech.ground)
     lengths = {}
     for x in mech.links:
@@ -94,7 +94,7 @@ def rotatability(mech: Mechanism, accuracy=None) -> Rotatability:
     kin = Kinematics(mech, None, 0, "assur", accuracy)  # every group: a limit anywhere stops the input
     cont = Continuation(kin)
     if not cont.angular:
-        raise DomesError(f"{mech.name}: the input {cont.joint} is a P joint; rotatability concerns R inputs")
+        raise InputError(f"{mech.name}: the input {cont.joint} is a P joint; rotatability concerns R inputs")
     q0 = cont.q0
     up = run_sweep(kin, q0, q0 + 2 * math.pi)
     dead = list(up.dead_points)
@@ -131,7 +131,7 @@ def transmission_angle(mech: Mechanism, start: float, stop: float, step=None, ac
     s = Structure.of(mech)
     dyads = [g for g in s.groups if g.kind in ("RRR", "RRP")]
     if not dyads:
-        raise DomesError(f"{mech.name}: no RRR or RRP dyad, so no transmission angle")
+        raise InputError(f"{mech.name}: no RRR or RRP dyad, so no transmission angle")
     from domes.kinematics.dyads import DyadPlan
     plans = [(g, DyadPlan.of(mech, g)) for g in dyads]
     outputs = set()
@@ -242,7 +242,7 @@ def output_range(mech: Mechanism, output: str, start: float, stop: float, step=N
     kin = Kinematics(mech, [output], 1, "assur", accuracy)
     sw = run_sweep(kin, start, stop, step, joint)
     if not sw.steps:
-        raise DomesError(f"{mech.name}: no configuration reached between the given inputs")
+        raise InputError(f"{mech.name}: no configuration reached between the given inputs")
     col = kin.outputs[0].columns()[0]
     cont = Continuation(kin, sw.joint)
     cands = [(s.values[col], s.inputs[sw.joint]) for s in sw.steps]
@@ -277,14 +277,14 @@ def interference(mech: Mechanism, first: str, second: str, start: float, stop: f
     polys = {p.name: p for p in mech.polygons}
     for name in (first, second):
         if name not in polys:
-            raise DomesError(f"{mech.name}: no polygon {name!r}; polygons are {sorted(polys)}")
+            raise InputError(f"{mech.name}: no polygon {name!r}; polygons are {sorted(polys)}")
     outputs = []
     anchors = {}
     for name in (first, second):
         link = polys[name].link
         pins = [j for j in mech.joints_of(link) if j.kind == "R"]
         if not pins:
-            raise DomesError(f"{mech.name}: polygon {name!r} is on link {link!r}, which has no R joint to place it by")
+            raise InputError(f"{mech.name}: polygon {name!r} is on link {link!r}, which has no R joint to place it by")
         joint = pins[0]
         anchors[name] = (link, joint)
         outputs += [f"point:{joint.name}", f"angle:{link}"]

@@ -11,7 +11,7 @@ import json
 import math
 import sys
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.kinematics.model import load_mechanism
 from domes.kinematics.solve import PRESETS, Kinematics, accuracy
 from domes.kinematics.sweep import run_sweep
@@ -47,13 +47,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
     parts = text.split(":")
     if len(parts) not in (2, 3):
-        raise DomesError(f"--sweep: expected START:STOP or START:STOP:STEP, got {text!r}")
+        raise InputError(f"--sweep: expected START:STOP or START:STOP:STEP, got {text!r}")
     try:
         nums = [float(x) for x in parts]
     except ValueError:
-        raise DomesError(f"--sweep: {text!r} has a part that is not a number") from None
+        raise InputError(f"--sweep: {text!r} has a part that is not a number") from None
     if len(nums) == 3 and nums[2] <= 0:
-        raise DomesError(f"--sweep: STEP must be > 0, got {parts[2]}")
+        raise InputError(f"--sweep: STEP must be > 0, got {parts[2]}")
     return scale(nums[0]), scale(nums[1]), scale(nums[2]) if len(nums) == 3 else None
 
 
@@ -71,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         q = kin.drawn_inputs()[joint] if joint in kin.drawn_inputs() else None
         if q is None:
-            raise DomesError(f"--input: {joint!r} is not a driven joint of {mech.name}")
+            raise InputError(f"--input: {joint!r} is not a driven joint of {mech.name}")
         start = stop = to_in(args.at) if args.at is not None else q
         step = 1.0
     sw = run_sweep(kin, start, stop, step, joint)

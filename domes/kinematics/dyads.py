@@ -21,18 +21,24 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from domes.errors import DomesError
+from domes.errors import InputError, NumericalError
 
 #: Relative slack on an assembly condition before a dyad is declared unassemblable.
 ASSEMBLY_SLACK = 1e-14
 
 
-class Unassembled(DomesError):
+class Unassembled(NumericalError):
     """The dyad cannot be assembled at this input (beyond a limit position)."""
 
+    def __init__(self, message: str):
+        super().__init__(message, kind="limit")
 
-class Undetermined(DomesError):
+
+class Undetermined(NumericalError):
     """The dyad's pose is not determined by its outer joints (coincident joints, parallel guides)."""
+
+    def __init__(self, message: str):
+        super().__init__(message, kind="undetermined")
 
 
 def _cross(a, b):
@@ -171,24 +177,24 @@ class DyadPlan:
         if kind == "RRR":
             sign = math.copysign(1.0, _cross(_sub(c.at, a.at), _sub(b.at, a.at)))
             if _cross(_sub(c.at, a.at), _sub(b.at, a.at)) == 0.0:
-                raise DomesError(f"{where}: joints {a.name}, {b.name}, {c.name} are collinear in the drawn pose, "
+                raise InputError(f"{where}: joints {a.name}, {b.name}, {c.name} are collinear in the drawn pose, "
                                  "so the assembly mode is ambiguous; draw the mechanism off this dead point")
         elif kind == "RPR":
             g_pivot, s_pivot = (a, c) if b.links[0] == l1 else (c, a)
             t0 = _dot((math.cos(b.direction), math.sin(b.direction)), _sub(s_pivot.at, g_pivot.at))
             if t0 == 0.0:
-                raise DomesError(f"{where}: the slider pivot {s_pivot.name} is at the foot of the perpendicular from "
+                raise InputError(f"{where}: the slider pivot {s_pivot.name} is at the foot of the perpendicular from "
                                  f"{g_pivot.name} in the drawn pose (a dead point); draw the mechanism off it")
             sign = math.copysign(1.0, t0)
         elif kind == "RRP":
             u0 = (math.cos(c.direction), math.sin(c.direction))
             w0 = _dot(u0, _sub(b.at, a.at))
             if w0 == 0.0:
-                raise DomesError(f"{where}: link {l1} is perpendicular to the slide of {c.name} in the drawn pose "
+                raise InputError(f"{where}: link {l1} is perpendicular to the slide of {c.name} in the drawn pose "
                                  "(a dead point); draw the mechanism off it")
             sign = math.copysign(1.0, w0)
         elif kind not in ("PRP", "RPP"):
-            raise DomesError(f"{where}: no closed form for a {kind} dyad")
+            raise InputError(f"{where}: no closed form for a {kind} dyad")
         return cls(kind, l1, l2, a, b, c, sign)
 
     def solve(self, world, rotation_of) -> tuple[dict, dict]:

@@ -39,7 +39,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Iterable, Mapping
 
-from domes.errors import DomesError
+from domes.errors import InputError
 
 Point2 = tuple[float, float]
 
@@ -113,35 +113,35 @@ class Mechanism:
         where = f"{source}: " if source else ""
         links = tuple(str(x) for x in links)
         if len(set(links)) != len(links):
-            raise DomesError(f"{where}links: duplicate link names in {list(links)}")
+            raise InputError(f"{where}links: duplicate link names in {list(links)}")
         if ground not in links:
-            raise DomesError(f"{where}ground: {ground!r} is not one of the links {list(links)}")
+            raise InputError(f"{where}ground: {ground!r} is not one of the links {list(links)}")
         split: list[Joint] = []
         names: set[str] = set()
         for j in joints:
             where_j = f"{where}joint {j.name!r}"
             if j.name in names:
-                raise DomesError(f"{where_j}: duplicate joint name")
+                raise InputError(f"{where_j}: duplicate joint name")
             names.add(j.name)
             if j.kind not in ("R", "P"):
-                raise DomesError(f"{where_j}: type {j.kind!r} is not supported; use 'R' or 'P' "
+                raise InputError(f"{where_j}: type {j.kind!r} is not supported; use 'R' or 'P' "
                                  "(model a cylinder as two links joined by a P joint)")
             for x in j.links:
                 if x not in links:
-                    raise DomesError(f"{where_j}: link {x!r} is not one of the links {list(links)}")
+                    raise InputError(f"{where_j}: link {x!r} is not one of the links {list(links)}")
             if len(set(j.links)) != len(j.links) or len(j.links) < 2:
-                raise DomesError(f"{where_j}: needs two or more different links, got {list(j.links)}")
+                raise InputError(f"{where_j}: needs two or more different links, got {list(j.links)}")
             if not all(math.isfinite(v) for v in j.at) or len(j.at) != 2:
-                raise DomesError(f"{where_j}: 'at' must be two finite numbers, got {j.at}")
+                raise InputError(f"{where_j}: 'at' must be two finite numbers, got {j.at}")
             if j.kind == "P":
                 if len(j.links) != 2:
-                    raise DomesError(f"{where_j}: a P joint joins exactly two links (guide, slider)")
+                    raise InputError(f"{where_j}: a P joint joins exactly two links (guide, slider)")
                 if j.origin is not None:
                     ox, oy = j.origin
                     off = -(j.at[0] - ox) * math.sin(j.direction) + (j.at[1] - oy) * math.cos(j.direction)
                     scale = max(1.0, abs(j.at[0] - ox) + abs(j.at[1] - oy))
                     if abs(off) > 1e-9 * scale:
-                        raise DomesError(f"{where_j}: origin {j.origin} is {off:.3g} off the slide line "
+                        raise InputError(f"{where_j}: origin {j.origin} is {off:.3g} off the slide line "
                                          "through 'at' with the given direction")
                 split.append(j)
             elif len(j.links) == 2:
@@ -154,34 +154,34 @@ class Mechanism:
         for j in split:
             key = frozenset(j.links)
             if key in pairs:
-                raise DomesError(f"{where}joint {j.name!r}: links {sorted(key)} are already joined by joint {pairs[key]!r}")
+                raise InputError(f"{where}joint {j.name!r}: links {sorted(key)} are already joined by joint {pairs[key]!r}")
             pairs[key] = j.name
         by_name = {j.name: j for j in split}
         inputs = tuple(inputs)
         if len({i.joint for i in inputs}) != len(inputs):
-            raise DomesError(f"{where}inputs: a joint is driven twice")
+            raise InputError(f"{where}inputs: a joint is driven twice")
         for i in inputs:
             if i.joint not in by_name:
-                raise DomesError(f"{where}inputs: joint {i.joint!r} is not one of the joints {sorted(by_name)}")
+                raise InputError(f"{where}inputs: joint {i.joint!r} is not one of the joints {sorted(by_name)}")
         for p in tuple(points) + tuple(polygons):
             if p.link not in links:
-                raise DomesError(f"{where}{type(p).__name__.lower()} {p.name!r}: link {p.link!r} is not one of the links")
+                raise InputError(f"{where}{type(p).__name__.lower()} {p.name!r}: link {p.link!r} is not one of the links")
         point_names = [p.name for p in points]
         clash = (set(point_names) & set(by_name)) | {n for n in point_names if point_names.count(n) > 1}
         if clash:
-            raise DomesError(f"{where}points: names {sorted(clash)} are used twice (points and joints share one namespace)")
+            raise InputError(f"{where}points: names {sorted(clash)} are used twice (points and joints share one namespace)")
         for poly in polygons:
             if len(poly.vertices) < 3:
-                raise DomesError(f"{where}polygon {poly.name!r}: needs three or more vertices")
+                raise InputError(f"{where}polygon {poly.name!r}: needs three or more vertices")
         angles = dict(link_angles or {})
         for x in angles:
             if x not in links:
-                raise DomesError(f"{where}link_angles: {x!r} is not one of the links")
+                raise InputError(f"{where}link_angles: {x!r} is not one of the links")
         mech = cls(name, links, ground, tuple(split), inputs, tuple(points), tuple(polygons),
                    tuple(sorted(angles.items())), source)
         dof = mech.dof
         if dof != len(inputs):
-            raise DomesError(f"{where}the mechanism has {dof} degree(s) of freedom (3(n−1) − 2j = 3·{len(links) - 1} − 2·{len(split)}) "
+            raise InputError(f"{where}the mechanism has {dof} degree(s) of freedom (3(n−1) − 2j = 3·{len(links) - 1} − 2·{len(split)}) "
                              f"but {len(inputs)} input(s); give one driven joint per degree of freedom")
         return mech
 
@@ -201,7 +201,7 @@ class Mechanism:
         for j in self.joints:
             if j.name == name:
                 return j
-        raise DomesError(f"{self.name}: no joint {name!r}; joints are {[j.name for j in self.joints]}")
+        raise InputError(f"{self.name}: no joint {name!r}; joints are {[j.name for j in self.joints]}")
 
     def joints_of(self, link: str) -> list[Joint]:
         return [j for j in self.joints if link in j.links]
@@ -214,7 +214,7 @@ class Mechanism:
         for j in self.joints:
             if j.name == name:
                 return j.links[-1] if j.kind == "P" else j.links[0], j.at
-        raise DomesError(f"{self.name}: no point or joint {name!r}")
+        raise InputError(f"{self.name}: no point or joint {name!r}")
 
     def reference_angle(self, link: str) -> float:
         """The angle of ``link``'s reference line in the drawn pose (rad)."""
@@ -244,25 +244,25 @@ class Mechanism:
 
 def _num(value, where: str) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise DomesError(f"{where}: expected a finite number, got {value!r}")
+        raise InputError(f"{where}: expected a finite number, got {value!r}")
     return float(value)
 
 
 def _xy(value, where: str) -> Point2:
     if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise DomesError(f"{where}: expected [x, y], got {value!r}")
+        raise InputError(f"{where}: expected [x, y], got {value!r}")
     return _num(value[0], f"{where}[0]"), _num(value[1], f"{where}[1]")
 
 
 def _keys(obj, allowed: set[str], required: set[str], where: str) -> None:
     if not isinstance(obj, dict):
-        raise DomesError(f"{where}: expected an object, got {type(obj).__name__}")
+        raise InputError(f"{where}: expected an object, got {type(obj).__name__}")
     unknown = set(obj) - allowed
     if unknown:
-        raise DomesError(f"{where}: unknown field(s) {sorted(unknown)}; allowed: {sorted(allowed)}")
+        raise InputError(f"{where}: unknown field(s) {sorted(unknown)}; allowed: {sorted(allowed)}")
     missing = required - set(obj)
     if missing:
-        raise DomesError(f"{where}: missing field(s) {sorted(missing)}")
+        raise InputError(f"{where}: missing field(s) {sorted(missing)}")
 
 
 def mechanism_from_dict(data: Mapping, source: str = "<dict>") -> Mechanism:
@@ -281,11 +281,11 @@ def mechanism_from_dict(data: Mapping, source: str = "<dict>") -> Mechanism:
           {"links", "ground", "joints", "inputs"}, source)
     unit = data.get("angle_unit", "deg")
     if unit not in ("deg", "rad"):
-        raise DomesError(f"{source}: angle_unit must be 'deg' or 'rad', got {unit!r}")
+        raise InputError(f"{source}: angle_unit must be 'deg' or 'rad', got {unit!r}")
     to_rad = math.radians if unit == "deg" else float
     links, link_angles = [], {}
     if not isinstance(data["links"], list):
-        raise DomesError(f"{source}: links: expected a list")
+        raise InputError(f"{source}: links: expected a list")
     for k, item in enumerate(data["links"]):
         where = f"{source}: links[{k}]"
         if isinstance(item, str):
@@ -297,12 +297,12 @@ def mechanism_from_dict(data: Mapping, source: str = "<dict>") -> Mechanism:
             link_angles[links[-1]] = to_rad(_num(item["angle"], f"{where}.angle"))
     joints = []
     if not isinstance(data["joints"], list):
-        raise DomesError(f"{source}: joints: expected a list")
+        raise InputError(f"{source}: joints: expected a list")
     for k, item in enumerate(data["joints"]):
         where = f"{source}: joints[{k}]"
         _keys(item, {"name", "type", "links", "at", "direction", "origin"}, {"name", "type", "links", "at"}, where)
         if not isinstance(item["links"], list):
-            raise DomesError(f"{where}.links: expected a list of link names")
+            raise InputError(f"{where}.links: expected a list of link names")
         joints.append(Joint(
             str(item["name"]), str(item["type"]), tuple(str(x) for x in item["links"]), _xy(item["at"], f"{where}.at"),
             to_rad(_num(item.get("direction", 0.0), f"{where}.direction")),
@@ -337,11 +337,11 @@ def load_mechanism(path: str) -> Mechanism:
         with open(path, encoding="utf-8") as fh:
             text = fh.read()
     except OSError as exc:
-        raise DomesError(f"{path}: cannot read: {exc.strerror}") from None
+        raise InputError(f"{path}: cannot read: {exc.strerror}") from None
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise DomesError(f"{path}: line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}") from None
+        raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}") from None
     return mechanism_from_dict(data, path)
 
 
@@ -395,31 +395,31 @@ def from_labelled(chain, at: Mapping, directions: Mapping | None = None, inputs:
     guides = {key(k): v for k, v in (guides or {}).items()}
     grounds = chain.links_with_role("ground")
     if len(grounds) != 1:
-        raise DomesError(f"labelled chain: needs exactly one link with role 'ground', found {grounds}")
+        raise InputError(f"labelled chain: needs exactly one link with role 'ground', found {grounds}")
     joints = []
     for (u, v), t in zip(chain.edges, chain.joint_types):
         jname = f"J{u}-{v}"
         if (u, v) not in at:
-            raise DomesError(f"labelled chain: no coordinates for joint {u}-{v} (at[({u}, {v})])")
+            raise InputError(f"labelled chain: no coordinates for joint {u}-{v} (at[({u}, {v})])")
         xy = tuple(float(c) for c in at[(u, v)])
         if t == "P":
             if (u, v) not in directions:
-                raise DomesError(f"labelled chain: P joint {u}-{v} needs a slide direction (directions[({u}, {v})])")
+                raise InputError(f"labelled chain: P joint {u}-{v} needs a slide direction (directions[({u}, {v})])")
             g = guides.get((u, v), u)
             if g not in (u, v):
-                raise DomesError(f"labelled chain: guide {g} of joint {u}-{v} is not one of its links")
+                raise InputError(f"labelled chain: guide {g} of joint {u}-{v} is not one of its links")
             joints.append(Joint(jname, "P", (str(g), str(v if g == u else u)), xy, float(directions[(u, v)])))
         elif t == "R":
             joints.append(Joint(jname, "R", (str(u), str(v)), xy))
         else:
-            raise DomesError(f"labelled chain: joint {u}-{v} has type {t!r}; the planar kinematics backend takes "
+            raise InputError(f"labelled chain: joint {u}-{v} has type {t!r}; the planar kinematics backend takes "
                              "R and P joints (model a cylinder 'H' as two links joined by a P joint)")
     if inputs is None:
         g = grounds[0]
         inputs = []
         for k in chain.links_with_role("input"):
             if (min(g, k), max(g, k)) not in chain.edges:
-                raise DomesError(f"labelled chain: input link {k} is not jointed to the ground {g}; name the driven joint")
+                raise InputError(f"labelled chain: input link {k} is not jointed to the ground {g}; name the driven joint")
             inputs.append((g, k))
     ins = [Input(f"J{min(p)}-{max(p)}") for p in inputs]
     return Mechanism.build(name, [str(i) for i in range(chain.n)], str(grounds[0]), joints, ins, tuple(points))

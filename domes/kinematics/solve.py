@@ -21,10 +21,11 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass, field
+from enum import StrEnum
 
 import numpy as np
 
-from domes.errors import DomesError
+from domes.errors import InputError, NumericalError
 from domes.kinematics.dyads import DyadPlan, Undetermined, Unassembled
 from domes.kinematics.model import Mechanism
 from domes.kinematics.structure import Structure, evaluate
@@ -67,13 +68,13 @@ def accuracy(spec=None, tol=None, step=None) -> Accuracy:
         spec = "default"
     if isinstance(spec, str):
         if spec not in PRESETS:
-            raise DomesError(f"accuracy preset must be one of {sorted(PRESETS)}, got {spec!r}")
+            raise InputError(f"accuracy preset must be one of {sorted(PRESETS)}, got {spec!r}")
         spec = PRESETS[spec]
     if tol is not None or step is not None:
         if tol is not None and not 0 < tol < 1:
-            raise DomesError(f"tol must be in (0, 1), got {tol}")
+            raise InputError(f"tol must be in (0, 1), got {tol}")
         if step is not None and not step > 0:
-            raise DomesError(f"step must be > 0, got {step}")
+            raise InputError(f"step must be > 0, got {step}")
         spec = Accuracy(f"{spec.name}*", tol if tol is not None else spec.tol, step if step is not None else spec.step,
                         min(spec.locate, tol) if tol is not None else spec.locate, spec.refine)
     return spec
@@ -90,12 +91,27 @@ JUMP = 0.75
 _as_accuracy = accuracy  # Kinematics takes an ``accuracy`` argument of the same name
 
 
-class SolveFailure(DomesError):
-    """A group could not be solved at this input: ``kind`` is ``limit``, ``undetermined`` or ``newton``."""
+class FailureKind(StrEnum):
+    """Why a group could not be solved."""
 
-    def __init__(self, message, kind, group):
-        super().__init__(message)
-        self.kind = kind
+    #: The group cannot be assembled at this input (beyond a limit position).
+    LIMIT = "limit"
+    #: The pose is not determined (coincident joints, parallel slides).
+    UNDETERMINED = "undetermined"
+    #: Newton's method failed (singular Jacobian during the iteration, or no convergence).
+    NEWTON = "newton"
+    #: Continuation would jump to another assembly mode (a bifurcation or discontinuity).
+    JUMP = "jump"
+    #: The Jacobian is singular: positions are known, their rates are not.
+    SINGULAR = "singular"
+
+
+class SolveFailure(NumericalError):
+    """A group could not be solved at this input; ``kind`` is a :class:`FailureKind`, ``group`` the group."""
+
+    def __init__(self, message, kind, group, condition=math.nan):
+        super().__init__(message, kind=FailureKind(kind), condition=condition,
+                         where={"group": group.label, "joints": tuple(group.joints)})
         self.group = group
 
 
@@ -152,7 +168,7 @@ def parse_outputs(mech: Mechanism, names) -> list[Output]:
         ok = (kind == "angle" and target in mech.links) or (kind == "slide" and target in joints and joints[target].kind == "P") \
             or (kind == "point" and (target in joints or target in points))
         if not ok:
-            raise DomesError(f"output {name!r}: use angle:LINK (links {list(mech.links)}), slide:JOINT (P joints "
+            raise InputError(f"output {name!r}: use angle:LINK (links {list(mech.links)}), slide:JOINT (P joints "
                              f"{[j for j in joints if joints[j].kind == 'P']}) or point:NAME (joints and points "
                              f"{sorted(set(joints) | points)})")
         outs.append(Output(kind, target))
@@ -164,7 +180,7 @@ class Kinematics:
 
     def __init__(self, mech: Mechanism, outputs=None, order: int = 0, method: str = "assur", accuracy=None):
         if order not in (0, 1, 2):
-            raise DomesError(f"order must be 0, 1 or 2, got {order}")
+            raise InputError(f"order must be 0, 1 or 2, got {order}")
         self.mech = mech
         self.order = order
         self.accuracy = _as_accuracy(accuracy)
@@ -222,11 +238,11 @@ class Kinematics:
         out = {}
         for j, v in self.structure.input_vars.items():
             if j not in inputs:
-                raise DomesError(f"input joint {j!r} needs a value")
+                raise InputError(f"input joint {j!r} needs a value")
             out[v] = float(inputs[j])
         unknown = set(inputs) - set(self.structure.input_vars)
         if unknown:
-            raise DomesError(f"{sorted(unknown)} are not driven joints; inputs are {sorted(self.structure.input_vars)}")
+            raise InputError(f"{sorted(unknown)} are not driven joints; inputs are {sorted(self.structure.input_vars)}")
         return out
 
     # -- positions -------------------------------------------------------------------------
@@ -355,7 +371,7 @@ class Kinematics:
                 continue
             if not math.isfinite(cond) or cond > SINGULAR_CONDITION:
                 raise SolveFailure(f"{g.label}: Jacobian singular (condition {cond:.3g}); velocities are undetermined "
-                                   f"at joints {', '.join(g.joints)}", "singular", g)
+                                   f"at joints {', '.join(g.joints)}", "singular", g, cond)
             rhs = np.zeros(n)
             for i, cols in enumerate(loops):
                 for v, c in cols.items():

@@ -26,7 +26,7 @@ from collections import deque
 from dataclasses import dataclass
 from itertools import combinations
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.kinematics.model import Joint, Mechanism
 from domes.kinematics.units import rp2_unit, rr_unit
 
@@ -181,7 +181,7 @@ class Structure:
     def of(cls, mech: Mechanism, method: str = "assur") -> "Structure":
         """Decompose ``mech`` into groups (``method="assur"``) or one group of all moving links (``"newton"``)."""
         if method not in ("assur", "newton"):
-            raise DomesError(f"method must be 'assur' or 'newton', got {method!r}")
+            raise InputError(f"method must be 'assur' or 'newton', got {method!r}")
         rotations, input_vars, drawn = _rotation_classes(mech)
         driven = set(input_vars)
         known = {mech.ground}
@@ -201,7 +201,7 @@ class Structure:
                 if found:
                     break
             if not found:
-                raise DomesError(f"{mech.name}: links {remaining} do not form Assur groups over the known links "
+                raise InputError(f"{mech.name}: links {remaining} do not form Assur groups over the known links "
                                  f"{sorted(known)}: the chain is not driven by its inputs (or has redundant constraints)")
             cand, js = found
             index = len(groups)
@@ -221,7 +221,7 @@ class Structure:
             loops = _group_loops(mech, cand, js, allowed, rotations, input_vars)
             kind = _group_kind(mech, cand, [j.name for j in js], driven)
             if len(unknowns) != 2 * len(loops):
-                raise DomesError(f"{mech.name}: links {list(cand)} ({kind}) have {len(unknowns)} unknowns for "
+                raise InputError(f"{mech.name}: links {list(cand)} ({kind}) have {len(unknowns)} unknowns for "
                                  f"{2 * len(loops)} loop equations: not a determinate group (e.g. three P joints)")
             groups.append(Group(index, tuple(cand), tuple(j.name for j in js), kind, unknowns, tuple(loops),
                                 tuple(sorted(parents))))
@@ -248,7 +248,7 @@ class Structure:
         mech = self.mech
         prev = _tree(mech, mech.ground, allowed)
         if link != mech.ground and link not in prev:
-            raise DomesError(f"{mech.name}: link {link!r} is not connected to the ground through solved links")
+            raise InputError(f"{mech.name}: link {link!r} is not connected to the ground through solved links")
         chain = []
         x = link
         while x != mech.ground:
@@ -323,7 +323,7 @@ def _rotation_classes(mech: Mechanism):
                     rotations[y] = expr
                     queue.append(y)
                 elif dict(rotations[y].terms) != dict(expr.terms) or abs(rotations[y].const - expr.const) > 1e-12:
-                    raise DomesError(f"{mech.name}: link {y!r} is tied to turn with {x!r} in two inconsistent ways "
+                    raise InputError(f"{mech.name}: link {y!r} is tied to turn with {x!r} in two inconsistent ways "
                                      "(a closed circuit of P joints and driven joints)")
     return rotations, input_vars, drawn
 
@@ -459,7 +459,7 @@ def _known_path(mech, start, p, goal, q, allowed, rotations, input_vars, cache) 
         cache[key] = _tree(mech, start, allowed)
     prev = cache[key]
     if goal != start and goal not in prev:
-        raise DomesError(f"{mech.name}: known links {start!r} and {goal!r} are not connected through solved links")
+        raise InputError(f"{mech.name}: known links {start!r} and {goal!r} are not connected through solved links")
     chain = []
     x = goal
     while x != start:

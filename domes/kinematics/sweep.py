@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from domes.errors import DomesError
+from domes.errors import InputError, NumericalError
 from domes.kinematics.model import Mechanism
 from domes.kinematics.solve import PRESETS, SINGULAR_CONDITION, Accuracy, Kinematics, SolveFailure, Step
 
@@ -85,7 +85,7 @@ class Continuation:
         drawn = kin.drawn_inputs()
         self.joint = joint or kin.mech.inputs[0].joint
         if self.joint not in drawn:
-            raise DomesError(f"{self.joint!r} is not a driven joint; driven joints are {sorted(drawn)}")
+            raise InputError(f"{self.joint!r} is not a driven joint; driven joints are {sorted(drawn)}")
         self.fixed = {**drawn, **(others or {})}
         self.angular = kin.mech.joint(self.joint).kind == "R"
         scale = 1.0 if self.angular else kin.size
@@ -119,8 +119,10 @@ class Continuation:
         try:
             return self.walk(dict(self.kin.structure.drawn), self.q0, q)
         except _Stuck as st:
-            raise DomesError(f"input {self.fmt(q)} is not reachable from the drawn pose ({self.fmt(self.q0)}): "
-                             f"{st.failure} near input {self.fmt(st.good)}") from None
+            f = st.failure
+            raise NumericalError(f"input {self.fmt(q)} is not reachable from the drawn pose ({self.fmt(self.q0)}): "
+                                 f"{f} near input {self.fmt(st.good)}", kind=f.kind, condition=f.condition,
+                                 where={**f.where, "input": st.good}) from None
 
     def fmt(self, q) -> str:
         return f"{math.degrees(q):.12g}°" if self.angular else f"{q:.12g}"
@@ -129,7 +131,7 @@ class Continuation:
 def grid(start: float, stop: float, step: float) -> list[float]:
     """``start, start ± step, ..., stop`` (the last point is ``stop`` when within 1e-9 of a step)."""
     if step <= 0:
-        raise DomesError(f"sweep step must be > 0, got {step}")
+        raise InputError(f"sweep step must be > 0, got {step}")
     n = (stop - start) / step
     count = int(math.floor(abs(n) + 1e-9))
     sign = 1.0 if stop >= start else -1.0
@@ -143,7 +145,7 @@ def solve(mech: Mechanism, q: float | None = None, outputs=None, order: int = 0,
           accuracy=None, joint: str | None = None, others: dict | None = None) -> Step:
     """One configuration at input ``q`` (default: the drawn pose), reached from the drawn pose by continuation.
 
-    Raises :class:`~domes.errors.DomesError` naming the group, joints and
+    Raises :class:`~domes.errors.NumericalError` naming the group, joints and
     input when the input cannot be reached or the derivatives are undetermined.
     """
     kin = Kinematics(mech, outputs, order, method, accuracy)
@@ -153,7 +155,8 @@ def solve(mech: Mechanism, q: float | None = None, outputs=None, order: int = 0,
     try:
         return kin.at(cont.inputs(q), state)
     except SolveFailure as exc:
-        raise DomesError(f"{exc} (input {cont.fmt(q)})") from None
+        raise NumericalError(f"{exc} (input {cont.fmt(q)})", kind=exc.kind, condition=exc.condition,
+                             where={**exc.where, "input": q}) from None
 
 
 def sweep(mech: Mechanism, start: float, stop: float, step: float | None = None, outputs=None, order: int = 0,

@@ -7,7 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.knowledge.explain import explain
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.language import normalise_name, parse_criterion, parse_relevance
@@ -173,7 +173,7 @@ def run_add(args: argparse.Namespace) -> int:
 def run_edit(args: argparse.Namespace) -> int:
     changes = _changes(args)
     if not changes:
-        raise DomesError("nothing to change: give --text, --explanation, --keywords, --relevance, --level, --source or --date")
+        raise InputError("nothing to change: give --text, --explanation, --keywords, --relevance, --level, --source or --date")
     with KnowledgeBase(args.db) as kb:
         frame = kb.get(args.id).edited(**changes)
         kb.update(frame)
@@ -215,7 +215,7 @@ def run_import(args: argparse.Namespace) -> int:
         try:
             kb.import_frames(frames)
         except DomesError as exc:
-            raise DomesError(f"{args.file}: {exc}; nothing was imported") from None
+            raise InputError(f"{args.file}: {exc}; nothing was imported") from None
     print(f"imported {len(frames)} criteria from {args.file}")
     return 0
 
@@ -245,7 +245,7 @@ def run_check(args: argparse.Namespace) -> int:
         if fresh.relevance != frame.relevance:
             problems.append(f"{frame.id}: the stored relevance differs from the parse of its relevance text")
     if problems:
-        raise DomesError(f"{len(problems)} problem(s) in the knowledge base:\n  " + "\n  ".join(problems))
+        raise InputError(f"{len(problems)} problem(s) in the knowledge base:\n  " + "\n  ".join(problems))
     print(f"ok: {len(frames)} criteria parse as stored")
     return 0
 
@@ -262,9 +262,9 @@ def _problem(text: str) -> Problem:
     try:
         data = json.loads(Path(text).read_text() if text.endswith(".json") else text)
     except (OSError, json.JSONDecodeError) as exc:
-        raise DomesError(f"problem: not a JSON object or .json file: {exc}") from None
+        raise InputError(f"problem: not a JSON object or .json file: {exc}") from None
     if not isinstance(data, dict):
-        raise DomesError("problem: expected a JSON object of attributes")
+        raise InputError("problem: expected a JSON object of attributes")
     return Problem.from_mapping(data)
 
 
@@ -274,11 +274,11 @@ def read_labelled_graphs(text: str, where: str) -> list[LabelledChain]:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise DomesError(f"{where}: not valid JSON: {exc}") from None
+        raise InputError(f"{where}: not valid JSON: {exc}") from None
     if isinstance(data, dict) and isinstance(data.get("candidates"), list):
         data = data["candidates"]
     if not isinstance(data, list):
-        raise DomesError(f"{where}: expected a list of labelled graphs, or the output of domes regenerate --format json")
+        raise InputError(f"{where}: expected a list of labelled graphs, or the output of domes regenerate --format json")
     graphs = []
     for index, item in enumerate(data):
         graph = LabelledChain.from_dict(item, f"{where}: graph {index}")
@@ -295,7 +295,7 @@ def run_screen(args: argparse.Namespace) -> int:
         try:
             graphs = read_labelled_graphs(Path(args.graphs).read_text(encoding="utf-8"), args.graphs)
         except OSError as exc:
-            raise DomesError(f"{args.graphs}: cannot read: {exc.strerror}") from None
+            raise InputError(f"{args.graphs}: cannot read: {exc.strerror}") from None
     problem = _problem(args.problem) if args.problem else None
     with KnowledgeBase(args.db) as kb:
         frames = kb.frames()

@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Callable
 
+from domes.errors import InputError
 from domes.knowledge.tree import (
     Adjacent, And, Count, Criterion, Distance, HasMember, InLoop, JointCount, Not, Or, Represents, SharesJoint, TypeIs,
 )
@@ -333,7 +334,7 @@ def compile_vertex(c) -> VertexTest:
             return out
 
         return either
-    raise TypeError(f"not a vertex condition: {c!r}")
+    raise InputError(f"not a vertex condition: {c!r}")
 
 
 def compile_loop(c) -> LoopTest:
@@ -375,7 +376,7 @@ def compile_loop(c) -> LoopTest:
     if isinstance(c, Or):
         parts = [compile_loop(x) for x in c.items]
         return lambda f, em, vm, length: any(p(f, em, vm, length) for p in parts)
-    raise TypeError(f"not a loop condition: {c!r}")
+    raise InputError(f"not a loop condition: {c!r}")
 
 
 def _cycles_where(f: Features, test: LoopTest) -> int:

@@ -21,7 +21,7 @@ import re
 from dataclasses import dataclass, replace
 from typing import Any, Iterable, Mapping
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.knowledge.language import parse_criterion, parse_relevance
 from domes.knowledge.render import render_criterion, render_relevance
 from domes.knowledge.tree import AllOf, Always, Criterion, HasName, Relevance, category, from_json, names_used, to_json
@@ -79,28 +79,28 @@ class CriterionFrame:
         that can evaluate it is used.
         """
         if not isinstance(id, str) or not ID_PATTERN.match(id):
-            raise DomesError(f"id: {id!r} is not an id (letters, digits, '.', '_', '-'; at most 64; starts with a letter or digit)")
+            raise InputError(f"id: {id!r} is not an id (letters, digits, '.', '_', '-'; at most 64; starts with a letter or digit)")
         if not isinstance(text, str):
-            raise DomesError(f"text: expected a string, got {type(text).__name__}")
+            raise InputError(f"text: expected a string, got {type(text).__name__}")
         text = " ".join(text.split())
         try:
             tree = parse_criterion(text)
         except DomesError as exc:
-            raise DomesError(f"text: {exc}") from None
+            raise InputError(f"text: {exc}") from None
         if relevance is None or (isinstance(relevance, str) and not relevance.strip()):
             relevance_tree = default_relevance(tree)
         else:
             if not isinstance(relevance, str):
-                raise DomesError(f"relevance: expected a string, got {type(relevance).__name__}")
+                raise InputError(f"relevance: expected a string, got {type(relevance).__name__}")
             try:
                 relevance_tree = parse_relevance(relevance)
             except DomesError as exc:
-                raise DomesError(f"relevance: {exc}") from None
+                raise InputError(f"relevance: {exc}") from None
         minimum = cost_level(tree)
         if level is None:
             level = minimum
         elif not isinstance(level, int) or isinstance(level, bool) or not minimum <= level <= MAX_LEVEL:
-            raise DomesError(
+            raise InputError(
                 f"level: expected a whole number from {minimum} (the cheapest level that can evaluate this criterion) "
                 f"to {MAX_LEVEL}, got {level!r}"
             )
@@ -108,18 +108,18 @@ class CriterionFrame:
             date = _dt.date.today().isoformat()
         for name, value in (("explanation", explanation), ("source", source), ("date", date)):
             if not isinstance(value, str):
-                raise DomesError(f"{name}: expected a string, got {type(value).__name__}")
+                raise InputError(f"{name}: expected a string, got {type(value).__name__}")
         if date and not DATE_PATTERN.match(date):
-            raise DomesError(f"date: {date!r} is not a date (YYYY, YYYY-MM or YYYY-MM-DD)")
+            raise InputError(f"date: {date!r} is not a date (YYYY, YYYY-MM or YYYY-MM-DD)")
         if not isinstance(enabled, bool):
-            raise DomesError(f"enabled: expected true or false, got {enabled!r}")
+            raise InputError(f"enabled: expected true or false, got {enabled!r}")
         if isinstance(keywords, str):
-            raise DomesError("keywords: expected a list of keywords, got a single string")
+            raise InputError("keywords: expected a list of keywords, got a single string")
         words = []
         for word in keywords:
             word = " ".join(str(word).lower().split())
             if not KEYWORD_PATTERN.match(word):
-                raise DomesError(f"keywords: {word!r} is not a keyword (letters, digits, spaces, '-', '_')")
+                raise InputError(f"keywords: {word!r} is not a keyword (letters, digits, spaces, '-', '_')")
             if word not in words:
                 words.append(word)
         return cls(
@@ -141,18 +141,18 @@ class CriterionFrame:
     def from_mapping(cls, data: Mapping[str, Any]) -> "CriterionFrame":
         """A frame from a source-file table or an exported record (the keys of :data:`FIELDS`)."""
         if not isinstance(data, Mapping):
-            raise DomesError(f"expected a table of fields, got {type(data).__name__}")
+            raise InputError(f"expected a table of fields, got {type(data).__name__}")
         unknown = set(data) - set(FIELDS) - {"category", "reading"}
         if unknown:
-            raise DomesError(f"unknown field(s) {sorted(unknown)}; known: {', '.join(FIELDS)}")
+            raise InputError(f"unknown field(s) {sorted(unknown)}; known: {', '.join(FIELDS)}")
         for required in ("id", "text"):
             if required not in data:
-                raise DomesError(f"missing field {required!r}")
+                raise InputError(f"missing field {required!r}")
         kwargs = {k: data[k] for k in FIELDS if k in data}
         kwargs["date"] = data.get("date", "")
         frame = cls.create(**kwargs)
         if "category" in data and data["category"] != frame.category:
-            raise DomesError(f"category: the text is a category ({frame.category}) criterion, not ({data['category']})")
+            raise InputError(f"category: the text is a category ({frame.category}) criterion, not ({data['category']})")
         return frame
 
     def to_mapping(self) -> dict[str, Any]:
@@ -175,7 +175,7 @@ class CriterionFrame:
         """A new frame with some fields changed, re-validated (``text`` re-parsed)."""
         bad = set(changes) - (set(FIELDS) - {"id"})
         if bad:
-            raise DomesError(f"cannot edit field(s) {sorted(bad)} (the id is fixed: add a new criterion instead)")
+            raise InputError(f"cannot edit field(s) {sorted(bad)} (the id is fixed: add a new criterion instead)")
         current = {k: v for k, v in self.to_mapping().items() if k in FIELDS}
         if "text" in changes:  # a derived level or relevance follows the new text
             if "level" not in changes and self.level == cost_level(self.tree):

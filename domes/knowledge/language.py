@@ -24,7 +24,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.knowledge.tree import (
     NAME_PATTERN, Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Criterion,
     Distance, Domain, ForAll, HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
@@ -74,7 +74,7 @@ MAX_TEXT = 2000
 MAX_DEPTH = 40
 
 
-class CriterionSyntaxError(DomesError):
+class CriterionSyntaxError(InputError):
     """Text that does not parse: ``position`` (0-based character offset) and ``expected``."""
 
     def __init__(self, message: str, position: int, expected: str):

@@ -21,7 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.knowledge.frames import ID_PATTERN
 from domes.knowledge.language import normalise_name
 from domes.knowledge.relevance import RelevanceVector
@@ -75,44 +75,44 @@ class ProblemFrame:
     def from_mapping(cls, data: Mapping[str, Any], where: str = "problem frame") -> "ProblemFrame":
         """A frame from plain data (JSON); errors name the bad field."""
         if not isinstance(data, Mapping):
-            raise DomesError(f"{where}: expected an object")
+            raise InputError(f"{where}: expected an object")
         unknown = set(data) - set(_FIELDS)
         if unknown:
-            raise DomesError(f"{where}: unknown field(s) {sorted(unknown)}")
+            raise InputError(f"{where}: unknown field(s) {sorted(unknown)}")
         frame_id = data.get("id")
         if not isinstance(frame_id, str) or not ID_PATTERN.match(frame_id):
-            raise DomesError(f"{where}.id: expected an id of letters, digits, '.', '_' or '-', got {frame_id!r}")
+            raise InputError(f"{where}.id: expected an id of letters, digits, '.', '_' or '-', got {frame_id!r}")
         where = f"{where} {frame_id!r}"
         kwargs: dict[str, Any] = {"id": frame_id}
         for key in STRUCTURAL:
             value = data.get(key, 3 if key == "space" else None)
             if value is not None and (not isinstance(value, int) or isinstance(value, bool) or value < 0):
-                raise DomesError(f"{where}.{key}: expected a whole number >= 0, got {value!r}")
+                raise InputError(f"{where}.{key}: expected a whole number >= 0, got {value!r}")
             kwargs[key] = value
         if kwargs["space"] not in (3, 6):
-            raise DomesError(f"{where}.space: λ is 3 (planar) or 6 (spatial), got {kwargs['space']}")
+            raise InputError(f"{where}.space: λ is 3 (planar) or 6 (spatial), got {kwargs['space']}")
         for key in ("problem_class", "title", "scene", "source", "date"):
             value = data.get(key)
             if value is not None and not isinstance(value, str):
-                raise DomesError(f"{where}.{key}: expected text, got {value!r}")
+                raise InputError(f"{where}.{key}: expected text, got {value!r}")
             if value is not None:
                 kwargs[key] = value
         if not kwargs.get("problem_class"):
-            raise DomesError(f"{where}.problem_class: a problem needs a class")
+            raise InputError(f"{where}.problem_class: a problem needs a class")
         for key in ("names", "notes", "criteria_added"):
             value = data.get(key, [])
             if isinstance(value, str) or not all(isinstance(x, str) for x in value):
-                raise DomesError(f"{where}.{key}: expected a list of text")
+                raise InputError(f"{where}.{key}: expected a list of text")
             kwargs[key] = frozenset(value) if key == "names" else tuple(value)
         for key in ("results", "rejected"):
             value = data.get(key, [])
             if not isinstance(value, list) or not all(isinstance(x, dict) for x in value):
-                raise DomesError(f"{where}.{key}: expected a list of objects")
+                raise InputError(f"{where}.{key}: expected a list of objects")
             kwargs[key] = tuple(value)
         relevance = data.get("relevance")
         if relevance is not None:
             if not isinstance(relevance, Mapping) or set(relevance) != {"ids", "bits"}:
-                raise DomesError(f"{where}.relevance: expected {{'ids': [...], 'bits': [...]}}")
+                raise InputError(f"{where}.relevance: expected {{'ids': [...], 'bits': [...]}}")
             kwargs["relevance"] = RelevanceVector(tuple(relevance["ids"]), tuple(relevance["bits"]))
         return cls(**kwargs)
 

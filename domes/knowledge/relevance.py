@@ -24,7 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Iterable, Mapping
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.knowledge.language import normalise_name
 from domes.knowledge.tree import PROBLEM_ATTRIBUTES, AllOf, Always, AnyOf, Attribute, ClassIs, HasName, NoneOf, Relevance
 
@@ -62,19 +62,19 @@ class Problem:
         known = set(PROBLEM_ATTRIBUTES) | {"problem_class", "names"}
         unknown = set(data) - known
         if unknown:
-            raise DomesError(f"{where}: unknown field(s) {sorted(unknown)}; known: {sorted(known)}")
+            raise InputError(f"{where}: unknown field(s) {sorted(unknown)}; known: {sorted(known)}")
         kwargs = {}
         for key in PROBLEM_ATTRIBUTES:
             value = data.get(key)
             if value is not None and (not isinstance(value, int) or isinstance(value, bool) or value < 0):
-                raise DomesError(f"{where}.{key}: expected a whole number >= 0, got {value!r}")
+                raise InputError(f"{where}.{key}: expected a whole number >= 0, got {value!r}")
             kwargs[key] = value
         cls_name = data.get("problem_class")
         if cls_name is not None and not isinstance(cls_name, str):
-            raise DomesError(f"{where}.problem_class: expected a string, got {cls_name!r}")
+            raise InputError(f"{where}.problem_class: expected a string, got {cls_name!r}")
         names = data.get("names", ())
         if isinstance(names, str) or not all(isinstance(n, str) for n in names):
-            raise DomesError(f"{where}.names: expected a list of names")
+            raise InputError(f"{where}.names: expected a list of names")
         return cls(**kwargs, problem_class=cls_name or None, names=frozenset(names))
 
 
@@ -95,7 +95,7 @@ def is_relevant(condition: Relevance, problem) -> bool:
         return all(is_relevant(c, problem) for c in condition.items)
     if isinstance(condition, AnyOf):
         return any(is_relevant(c, problem) for c in condition.items)
-    raise TypeError(f"not a relevance condition: {condition!r}")
+    raise InputError(f"not a relevance condition: {condition!r}")
 
 
 @dataclass(frozen=True)
@@ -107,9 +107,9 @@ class RelevanceVector:
 
     def __post_init__(self) -> None:
         if len(self.ids) != len(self.bits) or len(set(self.ids)) != len(self.ids):
-            raise DomesError("a relevance vector needs one bit per criterion id, ids distinct")
+            raise InputError("a relevance vector needs one bit per criterion id, ids distinct")
         if any(b not in (0, 1) for b in self.bits):
-            raise DomesError("relevance bits are 0 or 1")
+            raise InputError("relevance bits are 0 or 1")
 
     def __len__(self) -> int:
         return len(self.bits)
@@ -120,7 +120,7 @@ class RelevanceVector:
     def set(self, criterion_id: str, bit: int) -> "RelevanceVector":
         """The vector with one element overridden (the designer declares a criterion relevant or not)."""
         if criterion_id not in self.ids:
-            raise DomesError(f"no criterion {criterion_id!r} in the relevance vector")
+            raise InputError(f"no criterion {criterion_id!r} in the relevance vector")
         return RelevanceVector(self.ids, tuple(bit if i == criterion_id else b for i, b in zip(self.ids, self.bits)))
 
     def aligned(self, ids: Iterable[str]) -> "RelevanceVector":

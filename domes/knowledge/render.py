@@ -10,6 +10,7 @@ the system understood can be read back in the same language.
 
 from __future__ import annotations
 
+from domes.errors import InputError
 from domes.knowledge.tree import (
     Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Criterion, Distance,
     HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
@@ -74,7 +75,7 @@ def condition_text(c, loop: bool, be: str = "be") -> str:
         return f"contain {quoted(c.role)}"
     if isinstance(c, SharesJoint):
         return f"share a joint with the {quoted(c.loop)} loop"
-    raise TypeError(f"not a condition: {c!r}")
+    raise InputError(f"not a condition: {c!r}")
 
 
 def _grouped(c, loop: bool, be: str) -> str:

@@ -24,7 +24,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.knowledge.evaluate import compile_criterion, graph_features
 from domes.knowledge.relevance import RelevanceVector, is_relevant
 from domes.knowledge.tree import Always, Relevance
@@ -111,7 +111,7 @@ def screen(
     candidates = list(candidates)
     ids = [c.id for c in criteria]
     if len(set(ids)) != len(ids):
-        raise DomesError("screening criteria must have distinct ids")
+        raise InputError("screening criteria must have distinct ids")
     chosen, not_relevant = [], []
     for position, criterion in enumerate(criteria):
         if not criterion.enabled:

@@ -22,7 +22,7 @@ from typing import Iterable
 
 import tomllib
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
 from domes.labelled.tomlsource import read_text
@@ -40,7 +40,7 @@ def _line_of(text: str, frame_id) -> str:
 
 def _frames(tables, where: str, text: str = "") -> list[CriterionFrame]:
     if not isinstance(tables, list):
-        raise DomesError(f"{where}: expected a list of criteria ([[criterion]] tables)")
+        raise InputError(f"{where}: expected a list of criteria ([[criterion]] tables)")
     frames = []
     for index, table in enumerate(tables, 1):
         ident = table.get("id") if isinstance(table, dict) else None
@@ -48,7 +48,7 @@ def _frames(tables, where: str, text: str = "") -> list[CriterionFrame]:
             frames.append(CriterionFrame.from_mapping(table))
         except DomesError as exc:
             label = f"criterion {index}" + (f" (id {ident!r})" if isinstance(ident, str) else "")
-            raise DomesError(f"{where}{_line_of(text, ident)}: {label}: {exc}") from None
+            raise InputError(f"{where}{_line_of(text, ident)}: {label}: {exc}") from None
     return frames
 
 
@@ -57,10 +57,10 @@ def loads_toml(text: str, where: str = "<toml>") -> list[CriterionFrame]:
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise DomesError(f"{where}: not valid TOML: {exc}") from None
+        raise InputError(f"{where}: not valid TOML: {exc}") from None
     unknown = set(data) - {"criterion"}
     if unknown:
-        raise DomesError(f"{where}: unknown top-level key(s) {sorted(unknown)}; criteria go in [[criterion]] tables")
+        raise InputError(f"{where}: unknown top-level key(s) {sorted(unknown)}; criteria go in [[criterion]] tables")
     return _frames(data.get("criterion", []), where, text)
 
 
@@ -69,9 +69,9 @@ def loads_json(text: str, where: str = "<json>") -> list[CriterionFrame]:
     try:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
-        raise DomesError(f"{where}: not valid JSON: {exc}") from None
+        raise InputError(f"{where}: not valid JSON: {exc}") from None
     if not isinstance(data, dict) or set(data) - {"criteria"}:
-        raise DomesError(f"{where}: expected an object with a 'criteria' list")
+        raise InputError(f"{where}: expected an object with a 'criteria' list")
     return _frames(data.get("criteria", []), where)
 
 
@@ -88,7 +88,7 @@ def check_unique(frames: Iterable[CriterionFrame], where: str) -> None:
     seen: set[str] = set()
     for frame in frames:
         if frame.id in seen:
-            raise DomesError(f"{where}: criterion id {frame.id!r} is given twice")
+            raise InputError(f"{where}: criterion id {frame.id!r} is given twice")
         seen.add(frame.id)
 
 
@@ -97,13 +97,13 @@ def read_knowledge(directory: str | Path) -> list[CriterionFrame]:
     directory = Path(directory)
     folder = directory / "criteria"
     if not folder.is_dir():
-        raise DomesError(f"{directory}: no criteria/ folder of knowledge sources (expected {folder})")
+        raise InputError(f"{directory}: no criteria/ folder of knowledge sources (expected {folder})")
     frames: list[CriterionFrame] = []
     owner: dict[str, Path] = {}
     for path in sorted(folder.glob("*.toml")):
         for frame in read_file(path):
             if frame.id in owner:
-                raise DomesError(f"{path}: criterion id {frame.id!r} is also defined in {owner[frame.id]}")
+                raise InputError(f"{path}: criterion id {frame.id!r} is also defined in {owner[frame.id]}")
             owner[frame.id] = path
             frames.append(frame)
     return frames
@@ -119,14 +119,14 @@ def read_cases(directory: str | Path) -> list[ProblemFrame]:
         try:
             data = json.loads(path.read_text(encoding="utf-8"))
         except (OSError, UnicodeDecodeError) as exc:
-            raise DomesError(f"{path}: cannot read: {exc}") from None
+            raise InputError(f"{path}: cannot read: {exc}") from None
         except json.JSONDecodeError as exc:
-            raise DomesError(f"{path}: not valid JSON: {exc}") from None
+            raise InputError(f"{path}: not valid JSON: {exc}") from None
         if not isinstance(data, dict) or "frame" not in data:
-            raise DomesError(f"{path}: a case is a design transcript with a 'frame' (see docs/expert.md)")
+            raise InputError(f"{path}: a case is a design transcript with a 'frame' (see docs/expert.md)")
         frame = ProblemFrame.from_mapping(data["frame"], f"{path}: frame")
         if frame.id in owner:
-            raise DomesError(f"{path}: case id {frame.id!r} is also used by {owner[frame.id]}")
+            raise InputError(f"{path}: case id {frame.id!r} is also used by {owner[frame.id]}")
         owner[frame.id] = path
         frames.append(frame)
     return frames
@@ -163,13 +163,13 @@ def write_atomically(path: str | Path, text: str) -> None:
     try:
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     except OSError as exc:
-        raise DomesError(f"cannot write {path}: {exc.strerror}") from None
+        raise InputError(f"cannot write {path}: {exc.strerror}") from None
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as out:
             out.write(text)
         os.replace(tmp, path)
     except OSError as exc:
-        raise DomesError(f"cannot write {path}: {exc.strerror}") from None
+        raise InputError(f"cannot write {path}: {exc.strerror}") from None
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)

@@ -16,7 +16,7 @@ transaction, in one session: an edit that is refused changes nothing.
 >>> kb.add(CriterionFrame.create("c1", "every vertex must have degree at most 3"))
 Traceback (most recent call last):
 ...
-domes.errors.DomesError: a criterion with id 'c1' is already in the knowledge base (use edit to change it)
+domes.errors.InputError: a criterion with id 'c1' is already in the knowledge base (use edit to change it)
 >>> kb.close()
 """
 
@@ -31,7 +31,7 @@ from sqlalchemy.engine import Engine, make_url
 from sqlalchemy.exc import ArgumentError, SQLAlchemyError
 from sqlalchemy.orm import Session
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.models import SCHEMA_VERSIONS, Base, CriterionRow, ProblemRow, SchemaVersion
 from domes.knowledge.problems import ProblemFrame
@@ -61,7 +61,7 @@ def sqlite_path(url: str) -> Path | None:
     try:
         parsed = make_url(url)
     except ArgumentError:
-        raise DomesError(f"{url!r} is not a database URL (e.g. sqlite:///casebase.db) nor a file path") from None
+        raise InputError(f"{url!r} is not a database URL (e.g. sqlite:///casebase.db) nor a file path") from None
     if parsed.get_backend_name() != "sqlite" or parsed.database in (None, "", ":memory:"):
         return None
     return Path(parsed.database)
@@ -71,7 +71,7 @@ def _engine(url: str) -> Engine:
     try:
         return create_engine(url)
     except (ArgumentError, SQLAlchemyError, ImportError) as exc:
-        raise DomesError(f"cannot open the case base {url}: {exc}") from None
+        raise InputError(f"cannot open the case base {url}: {exc}") from None
 
 
 def open_engine(url: str, create: bool = False) -> Engine:
@@ -83,15 +83,15 @@ def open_engine(url: str, create: bool = False) -> Engine:
     """
     path = sqlite_path(url)
     if path is not None and not path.exists() and not create:
-        raise DomesError(f"no case base at {path}: build it with `domes kb build` (or choose one with --db / {DB_ENV})")
+        raise InputError(f"no case base at {path}: build it with `domes kb build` (or choose one with --db / {DB_ENV})")
     engine = _engine(url)
     try:
         tables = set(inspect(engine).get_table_names())
         if SchemaVersion.__tablename__ not in tables:
             if tables:
-                raise DomesError(f"{url} is not a DOMES-py case base (it has tables {sorted(tables)} but no schema_version)")
+                raise InputError(f"{url} is not a DOMES-py case base (it has tables {sorted(tables)} but no schema_version)")
             if not create:
-                raise DomesError(f"the case base {url} is empty: build it with `domes kb build` or fill it with `domes kb import`")
+                raise InputError(f"the case base {url} is empty: build it with `domes kb build` or fill it with `domes kb import`")
             with engine.begin() as conn:
                 Base.metadata.create_all(conn)
                 conn.execute(SchemaVersion.__table__.insert(), [{"component": c, "version": v} for c, v in SCHEMA_VERSIONS.items()])
@@ -100,7 +100,7 @@ def open_engine(url: str, create: bool = False) -> Engine:
             found = {row.component: row.version for row in session.scalars(select(SchemaVersion))}
     except SQLAlchemyError as exc:
         engine.dispose()
-        raise DomesError(f"cannot read the case base {url}: {exc}") from None
+        raise InputError(f"cannot read the case base {url}: {exc}") from None
     except DomesError:
         engine.dispose()
         raise
@@ -108,7 +108,7 @@ def open_engine(url: str, create: bool = False) -> Engine:
         if found.get(component) != version:
             engine.dispose()
             have = "no" if component not in found else f"version {found[component]} of the"
-            raise DomesError(
+            raise InputError(
                 f"the case base {url} has {have} '{component}' schema; this DOMES-py reads version {version}: "
                 "rebuild it with `domes kb build` (first export your own criteria with the DOMES-py that made it)"
             )
@@ -151,13 +151,13 @@ class KnowledgeBase:
         try:
             return CriterionFrame.from_record(row.record())
         except DomesError as exc:
-            raise DomesError(f"stored criterion {row.id!r} is damaged: {exc}; run `domes kb check`") from None
+            raise InputError(f"stored criterion {row.id!r} is damaged: {exc}; run `domes kb check`") from None
 
     @staticmethod
     def _row(session: Session, criterion_id: str) -> CriterionRow:
         row = session.get(CriterionRow, criterion_id)
         if row is None:
-            raise DomesError(f"no criterion with id {criterion_id!r} in the knowledge base (see `domes kb list`)")
+            raise InputError(f"no criterion with id {criterion_id!r} in the knowledge base (see `domes kb list`)")
         return row
 
     # -- editing: each method one transaction --------------------------------------------
@@ -166,7 +166,7 @@ class KnowledgeBase:
     def _insert(session: Session, frames: list[CriterionFrame]) -> None:
         for frame in frames:
             if session.get(CriterionRow, frame.id) is not None:
-                raise DomesError(f"a criterion with id {frame.id!r} is already in the knowledge base (use edit to change it)")
+                raise InputError(f"a criterion with id {frame.id!r} is already in the knowledge base (use edit to change it)")
         number = session.scalar(select(func.max(CriterionRow.number))) or 0
         for frame in frames:
             number += 1
@@ -208,7 +208,7 @@ class KnowledgeBase:
         with Session(self.engine) as session:
             row = session.get(ProblemRow, problem_id)
             if row is None:
-                raise DomesError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
+                raise InputError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
             return self._problem(row)
 
     @staticmethod
@@ -216,7 +216,7 @@ class KnowledgeBase:
         try:
             return ProblemFrame.from_mapping(row.frame)
         except DomesError as exc:
-            raise DomesError(f"stored case {row.id!r} is damaged: {exc}; rebuild with `domes kb build`") from None
+            raise InputError(f"stored case {row.id!r} is damaged: {exc}; rebuild with `domes kb build`") from None
 
     @staticmethod
     def _insert_problems(session: Session, frames: list[ProblemFrame], replace: bool = False) -> None:
@@ -224,7 +224,7 @@ class KnowledgeBase:
         for frame in frames:
             row = session.get(ProblemRow, frame.id)
             if row is not None and not replace:
-                raise DomesError(f"a case with id {frame.id!r} is already in the case base")
+                raise InputError(f"a case with id {frame.id!r} is already in the case base")
             if row is None:
                 number += 1
                 session.add(ProblemRow(id=frame.id, number=number, problem_class=frame.problem_class, frame=frame.to_mapping()))
@@ -240,7 +240,7 @@ class KnowledgeBase:
         with Session(self.engine) as session, session.begin():
             row = session.get(ProblemRow, problem_id)
             if row is None:
-                raise DomesError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
+                raise InputError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
             session.delete(row)
 
 
@@ -269,12 +269,12 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
                     KnowledgeBase._insert_problems(session, cases)
                     session.flush()
         except SQLAlchemyError as exc:
-            raise DomesError(f"cannot build the case base {url}: {exc}") from None
+            raise InputError(f"cannot build the case base {url}: {exc}") from None
         finally:
             engine.dispose()
         return frames
     if not path.parent.is_dir():
-        raise DomesError(f"cannot build {path}: folder {path.parent} does not exist")
+        raise InputError(f"cannot build {path}: folder {path.parent} does not exist")
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     if tmp.exists():
         tmp.unlink()
@@ -288,7 +288,7 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
             kb.close()
         os.replace(tmp, path)
     except (OSError, SQLAlchemyError) as exc:
-        raise DomesError(f"cannot build {path}: {exc}") from None
+        raise InputError(f"cannot build {path}: {exc}") from None
     finally:
         if tmp.exists():
             tmp.unlink()

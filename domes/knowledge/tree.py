@@ -30,7 +30,7 @@ import re
 from dataclasses import MISSING, dataclass, fields
 from typing import Any, Union
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.labelled.graph import JOINT_TYPES
 
 #: Names of roles (named vertices), loops and problem classes: lower case words joined by "_".
@@ -291,43 +291,43 @@ def from_json(data: Any, where: str = "tree", expect: str | None = None) -> Any:
     >>> from_json({"node": "Eval", "code": "1"})
     Traceback (most recent call last):
     ...
-    domes.errors.DomesError: tree: unknown node 'Eval'
+    domes.errors.InputError: tree: unknown node 'Eval'
     """
     node = _decode(data, where)
     kinds = {"criterion": (ForAll, Count), "relevance": (Always, HasName, ClassIs, Attribute, AllOf, AnyOf, NoneOf)}
     allowed = kinds[expect] if expect else kinds["criterion"] + kinds["relevance"]
     if not isinstance(node, allowed):
-        raise DomesError(f"{where}: {type(node).__name__} is not a {expect or 'criterion or relevance condition'}")
+        raise InputError(f"{where}: {type(node).__name__} is not a {expect or 'criterion or relevance condition'}")
     _validate(node, where)
     return node
 
 
 def _decode(data: Any, where: str) -> Any:
     if not isinstance(data, dict):
-        raise DomesError(f"{where}: expected an object with a 'node' field, got {type(data).__name__}")
+        raise InputError(f"{where}: expected an object with a 'node' field, got {type(data).__name__}")
     name = data.get("node")
     cls = _NODES.get(name) if isinstance(name, str) else None
     if cls is None:
-        raise DomesError(f"{where}: unknown node {name!r}")
+        raise InputError(f"{where}: unknown node {name!r}")
     names = {f.name for f in fields(cls)}
     extra = set(data) - names - {"node"}
     if extra:
-        raise DomesError(f"{where}: {name} has no field(s) {sorted(extra)}")
+        raise InputError(f"{where}: {name} has no field(s) {sorted(extra)}")
     kwargs = {}
     for f in fields(cls):
         if f.name not in data:
             if f.default is not MISSING:
                 continue
-            raise DomesError(f"{where}: {name} is missing the field {f.name!r}")
+            raise InputError(f"{where}: {name} is missing the field {f.name!r}")
         value = data[f.name]
         here = f"{where}.{f.name}"
         if f.name in ("items",):
             if not isinstance(value, list) or len(value) < 2:
-                raise DomesError(f"{here}: expected a list of at least two conditions")
+                raise InputError(f"{here}: expected a list of at least two conditions")
             value = tuple(_decode(x, f"{here}[{i}]") for i, x in enumerate(value))
         elif f.name == "joints":
             if not isinstance(value, list) or not all(isinstance(x, str) for x in value):
-                raise DomesError(f"{here}: expected a list of joint-type letters")
+                raise InputError(f"{here}: expected a list of joint-type letters")
             value = tuple(value)
         elif isinstance(value, dict):
             value = _decode(value, here)
@@ -339,11 +339,11 @@ def _check_str(value: Any, where: str, allowed: tuple | None = None, optional: b
     if value is None and optional:
         return
     if not isinstance(value, str) or not value:
-        raise DomesError(f"{where}: expected a non-empty string, got {value!r}")
+        raise InputError(f"{where}: expected a non-empty string, got {value!r}")
     if allowed is not None and value not in allowed:
-        raise DomesError(f"{where}: {value!r} is not one of {', '.join(map(str, allowed))}")
+        raise InputError(f"{where}: {value!r} is not one of {', '.join(map(str, allowed))}")
     if allowed is None and not NAME_PATTERN.match(value):
-        raise DomesError(f"{where}: {value!r} is not a name (lower-case letters and digits joined by '_')")
+        raise InputError(f"{where}: {value!r} is not a name (lower-case letters and digits joined by '_')")
 
 
 def _validate(node: Any, where: str, context: str | None = None) -> None:
@@ -351,10 +351,10 @@ def _validate(node: Any, where: str, context: str | None = None) -> None:
     if isinstance(node, Comparison):
         _check_str(node.op, f"{where}.op", tuple(NEGATED_OP))
         if not isinstance(node.value, int) or isinstance(node.value, bool) or node.value < 0:
-            raise DomesError(f"{where}.value: expected a whole number >= 0, got {node.value!r}")
+            raise InputError(f"{where}.value: expected a whole number >= 0, got {node.value!r}")
     elif isinstance(node, (ForAll, Count)):
         if not isinstance(node.domain, Domain):
-            raise DomesError(f"{where}.domain: expected a Domain")
+            raise InputError(f"{where}.domain: expected a Domain")
         _check_str(node.domain.kind, f"{where}.domain.kind", DOMAIN_KINDS)
         _check_str(node.domain.name, f"{where}.domain.name", optional=True)
         ctx = "vertex" if node.domain.kind == "vertex" else "loop"
@@ -362,7 +362,7 @@ def _validate(node: Any, where: str, context: str | None = None) -> None:
             _validate(node.condition, f"{where}.condition", ctx)
         else:
             if node.domain.name is not None:
-                raise DomesError(f"{where}.domain: a count ranges over all vertices or loops, not a named one")
+                raise InputError(f"{where}.domain: a count ranges over all vertices or loops, not a named one")
             if node.condition is not None:
                 _validate(node.condition, f"{where}.condition", ctx)
             _expect(node.comparison, Comparison, f"{where}.comparison")
@@ -374,7 +374,7 @@ def _validate(node: Any, where: str, context: str | None = None) -> None:
             _validate(item, f"{where}.items[{i}]", context)
     elif isinstance(node, (Always, HasName, ClassIs, Attribute)):
         if context is not None:
-            raise DomesError(f"{where}: {type(node).__name__} is a relevance condition, not a {context} condition")
+            raise InputError(f"{where}: {type(node).__name__} is a relevance condition, not a {context} condition")
         if isinstance(node, (HasName, ClassIs)):
             _check_str(node.name, f"{where}.name")
         elif isinstance(node, Attribute):
@@ -385,11 +385,11 @@ def _validate(node: Any, where: str, context: str | None = None) -> None:
         allowed = VERTEX_CONDITIONS if context == "vertex" else LOOP_CONDITIONS if context == "loop" else ()
         if not isinstance(node, allowed):
             what = f"a {context} condition" if context else "a criterion or relevance condition"
-            raise DomesError(f"{where}: {type(node).__name__} is not {what}")
+            raise InputError(f"{where}: {type(node).__name__} is not {what}")
         if isinstance(node, TypeIs):
             _check_str(node.relation, f"{where}.relation", TYPE_RELATIONS)
             if not node.joints or any(j not in JOINT_TYPES for j in node.joints) or tuple(sorted(set(node.joints))) != node.joints:
-                raise DomesError(f"{where}.joints: expected sorted distinct joint types from {' '.join(JOINT_TYPES)}")
+                raise InputError(f"{where}.joints: expected sorted distinct joint types from {' '.join(JOINT_TYPES)}")
         elif isinstance(node, JointCount):
             _check_str(node.joint, f"{where}.joint", tuple(JOINT_TYPES), optional=True)
             _expect(node.comparison, Comparison, f"{where}.comparison")
@@ -409,7 +409,7 @@ def _validate(node: Any, where: str, context: str | None = None) -> None:
 
 def _expect(value: Any, cls: type, where: str) -> None:
     if not isinstance(value, cls):
-        raise DomesError(f"{where}: expected a {cls.__name__}")
+        raise InputError(f"{where}: expected a {cls.__name__}")
 
 
 # -- properties of a tree ---------------------------------------------------------------

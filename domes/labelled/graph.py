@@ -29,7 +29,7 @@ import networkx as nx
 import pynauty
 
 from domes.chains.canon import Automorphisms
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 
 Edge = tuple[int, int]
 
@@ -82,22 +82,22 @@ class LabelledChain:
         else:
             types = list(joint_types)
             if len(types) != len(edges):
-                raise DomesError(f"{len(types)} joint types given for {len(edges)} joints")
+                raise InputError(f"{len(types)} joint types given for {len(edges)} joints")
         seen: dict[Edge, int] = {}
         for i, ((u, v), t) in enumerate(zip(edges, types)):
             if not (0 <= u < n and 0 <= v < n) or u == v:
-                raise DomesError(f"joint {i}: ({u}, {v}) must join two different links of 0..{n - 1}")
+                raise InputError(f"joint {i}: ({u}, {v}) must join two different links of 0..{n - 1}")
             if t not in JOINT_TYPES:
-                raise DomesError(f"joint {i} ({u}-{v}): unknown joint type {t!r}; known: {', '.join(JOINT_TYPES)}")
+                raise InputError(f"joint {i} ({u}-{v}): unknown joint type {t!r}; known: {', '.join(JOINT_TYPES)}")
             key = (min(u, v), max(u, v))
             if key in seen:
-                raise DomesError(f"joint {i}: links {key[0]} and {key[1]} are already jointed by joint {seen[key]}")
+                raise InputError(f"joint {i}: links {key[0]} and {key[1]} are already jointed by joint {seen[key]}")
             seen[key] = i
         order = sorted(range(len(edges)), key=lambda i: (min(edges[i]), max(edges[i])))
         role_sets = [frozenset() for _ in range(n)]
         for v, names in (roles or {}).items():
             if not 0 <= int(v) < n:
-                raise DomesError(f"role(s) {sorted(names)} given to link {v}, which is not in 0..{n - 1}")
+                raise InputError(f"role(s) {sorted(names)} given to link {v}, which is not in 0..{n - 1}")
             role_sets[int(v)] = frozenset(str(r) for r in names)
         loops = []
         for name, links in sorted((named_loops or {}).items()):
@@ -105,7 +105,7 @@ class LabelledChain:
             ring = list(zip(links, links[1:] + links[:1]))
             missing = [p for p in ring if (min(p), max(p)) not in seen]
             if len(links) < 3 or missing:
-                raise DomesError(f"named loop {name!r}: {list(links)} is not a closed loop of the chain (missing joints {missing})")
+                raise InputError(f"named loop {name!r}: {list(links)} is not a closed loop of the chain (missing joints {missing})")
             loops.append((str(name), links))
         return cls(
             n,
@@ -174,7 +174,7 @@ class LabelledChain:
         """Inverse of :meth:`to_networkx` (nodes must be ``0..n−1``)."""
         n = graph.number_of_nodes()
         if sorted(graph.nodes) != list(range(n)):
-            raise DomesError("nodes of a labelled chain must be 0..n-1; relabel with nx.convert_node_labels_to_integers")
+            raise InputError("nodes of a labelled chain must be 0..n-1; relabel with nx.convert_node_labels_to_integers")
         return cls.build(
             n,
             list(graph.edges),
@@ -206,24 +206,24 @@ class LabelledChain:
         ('P', 'R', 'R')
         """
         if not isinstance(data, dict):
-            raise DomesError(f"{where}: expected an object with links and joints")
+            raise InputError(f"{where}: expected an object with links and joints")
         unknown = set(data) - {"links", "joints", "roles", "loops", "id", "existing", "existing_designs", "chain"}
         if unknown:
-            raise DomesError(f"{where}: unknown field(s) {', '.join(sorted(unknown))}")
+            raise InputError(f"{where}: unknown field(s) {', '.join(sorted(unknown))}")
         links, joints = data.get("links"), data.get("joints")
         roles = dict(data.get("roles") or {})
         if isinstance(links, list):
             try:
                 roles = {int(item["id"]): item.get("roles", []) for item in links}
             except (TypeError, KeyError, ValueError):
-                raise DomesError(f"{where}: each link must be an object with an 'id' and optional 'roles'") from None
+                raise InputError(f"{where}: each link must be an object with an 'id' and optional 'roles'") from None
             n = len(links)
         elif isinstance(links, int):
             n = links
         else:
-            raise DomesError(f"{where}: 'links' must be a number or a list of links")
+            raise InputError(f"{where}: 'links' must be a number or a list of links")
         if not isinstance(joints, list):
-            raise DomesError(f"{where}: 'joints' must be a list")
+            raise InputError(f"{where}: 'joints' must be a list")
         edges, types = [], []
         for j in joints:
             pair, kind = None, "R"
@@ -232,20 +232,20 @@ class LabelledChain:
             elif isinstance(j, list) and len(j) in (2, 3):
                 pair, kind = j[:2], (j[2] if len(j) == 3 else "R")
             if not (isinstance(pair, list) and len(pair) == 2 and all(isinstance(x, int) for x in pair)):
-                raise DomesError(f"{where}: joint {j!r} is not [u, v], [u, v, type] or {{'links': [u, v], 'type': T}}")
+                raise InputError(f"{where}: joint {j!r} is not [u, v], [u, v, type] or {{'links': [u, v], 'type': T}}")
             edges.append(tuple(pair))
             types.append(kind)
         try:
             role_map = {int(v): [str(r) for r in names] for v, names in roles.items()}
         except (TypeError, ValueError):
-            raise DomesError(f"{where}: 'roles' must map a link number to a list of role names") from None
+            raise InputError(f"{where}: 'roles' must map a link number to a list of role names") from None
         loops = data.get("loops") or {}
         if not isinstance(loops, dict):
-            raise DomesError(f"{where}: 'loops' must map a loop name to its links in order")
+            raise InputError(f"{where}: 'loops' must map a loop name to its links in order")
         try:
             return cls.build(n, edges, types, role_map, loops)
         except DomesError as exc:
-            raise DomesError(f"{where}: {exc}") from None
+            raise InputError(f"{where}: {exc}") from None
 
     # -- identity --------------------------------------------------------------
 

@@ -30,7 +30,7 @@ from typing import Iterable, Mapping
 import networkx as nx
 
 from domes.chains.chain import Chain
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.labelled.graph import JOINT_TYPES, LabelledChain
 
 
@@ -74,13 +74,13 @@ def label_joints(
     """
     for t, k in counts.items():
         if t not in JOINT_TYPES or t == "R":
-            raise DomesError(f"cannot count joint type {t!r}; choose among {', '.join(x for x in JOINT_TYPES if x != 'R')}")
+            raise InputError(f"cannot count joint type {t!r}; choose among {', '.join(x for x in JOINT_TYPES if x != 'R')}")
         if not isinstance(k, int) or k < 0:
-            raise DomesError(f"the number of {t} joints must be a whole number >= 0, got {k!r}")
+            raise InputError(f"the number of {t} joints must be a whole number >= 0, got {k!r}")
     limits = dict(per_loop_max or {})
     for t in limits:
         if t not in JOINT_TYPES:
-            raise DomesError(f"unknown joint type {t!r} in the loop limits")
+            raise InputError(f"unknown joint type {t!r} in the loop limits")
     result: list[LabelledChain] = []
     for chain in chains:
         start = chain if isinstance(chain, LabelledChain) else LabelledChain.build(chain.n, chain.edges)

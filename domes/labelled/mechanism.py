@@ -49,7 +49,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterable
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.labelled.graph import JOINT_TYPES, LabelledChain
 from domes.labelled.tomlsource import TomlSource
 
@@ -97,7 +97,7 @@ class Mechanism:
         for link_name, link_roles in links:
             link_name = str(link_name)
             if link_name in names:
-                raise DomesError(f"mechanism {name!r}: link {link_name!r} is defined twice")
+                raise InputError(f"mechanism {name!r}: link {link_name!r} is defined twice")
             names.append(link_name)
             roles.append(frozenset(str(r) for r in link_roles))
         index = {n: i for i, n in enumerate(names)}
@@ -106,14 +106,14 @@ class Mechanism:
             label = joint_name or f"{a}-{b}"
             for end in (a, b):
                 if str(end) not in index:
-                    raise DomesError(f"mechanism {name!r}, joint {label!r}: unknown link {end!r} (links: {', '.join(names)})")
+                    raise InputError(f"mechanism {name!r}, joint {label!r}: unknown link {end!r} (links: {', '.join(names)})")
             if str(a) == str(b):
-                raise DomesError(f"mechanism {name!r}, joint {label!r}: a joint needs two different links")
+                raise InputError(f"mechanism {name!r}, joint {label!r}: a joint needs two different links")
             if kind not in JOINT_TYPES:
-                raise DomesError(f"mechanism {name!r}, joint {label!r}: unknown type {kind!r}; known: {', '.join(JOINT_TYPES)}")
+                raise InputError(f"mechanism {name!r}, joint {label!r}: unknown type {kind!r}; known: {', '.join(JOINT_TYPES)}")
             pair = tuple(sorted((index[str(a)], index[str(b)])))
             if pair in seen:
-                raise DomesError(f"mechanism {name!r}, joint {label!r}: links {a} and {b} are already joined by {seen[pair]!r}")
+                raise InputError(f"mechanism {name!r}, joint {label!r}: links {a} and {b} are already joined by {seen[pair]!r}")
             seen[pair] = label
             built.append(Joint(pair, kind, str(joint_name)))
         return cls(str(name), tuple(names), tuple(roles), tuple(built), str(source))
@@ -196,26 +196,26 @@ class Mechanism:
         size = len(rows)
         for r, row in enumerate(rows, 1):
             if len(row) != size:
-                raise DomesError(f"MTM row {r} has {len(row)} entries; a {size}x{size} matrix needs {size}")
+                raise InputError(f"MTM row {r} has {len(row)} entries; a {size}x{size} matrix needs {size}")
         names = list(link_names) if link_names is not None else [str(i + 1) for i in range(size)]
         links, joints = [], []
         for i in range(size):
             code = rows[i][i]
             if code not in MTM_LINK_CODES:
-                raise DomesError(f"MTM ({i + 1},{i + 1}): unknown link type {code!r}; known: {', '.join(MTM_LINK_CODES)}")
+                raise InputError(f"MTM ({i + 1},{i + 1}): unknown link type {code!r}; known: {', '.join(MTM_LINK_CODES)}")
             role = MTM_LINK_CODES[code]
             links.append((names[i], [role] if role else []))
         for i in range(size):
             for k in range(i + 1, size):
                 kind, label = rows[i][k], rows[k][i]
                 if (kind == "0") != (label == "0"):
-                    raise DomesError(
+                    raise InputError(
                         f"MTM ({i + 1},{k + 1})={kind!r} but ({k + 1},{i + 1})={label!r}: a joint needs both its type "
                         "above the diagonal and its name below it"
                     )
                 if kind != "0":
                     if kind not in JOINT_TYPES:
-                        raise DomesError(f"MTM ({i + 1},{k + 1}): unknown joint type {kind!r}")
+                        raise InputError(f"MTM ({i + 1},{k + 1}): unknown joint type {kind!r}")
                     joints.append((label, names[i], names[k], kind))
         return cls.build(name, links, joints)
 
@@ -279,17 +279,17 @@ class Mechanism:
         rows = [line.split() for line in adjacency.strip().splitlines() if line.strip()]
         size = len(rows)
         if any(len(r) != size or any(x not in ("0", "1") for x in r) for r in rows):
-            raise DomesError("the adjacency matrix must be square with entries 0 and 1")
+            raise InputError("the adjacency matrix must be square with entries 0 and 1")
         table = [line.split() for line in type_text.strip().splitlines() if line.strip()]
         header, body = table[0], table[1:]
         if header[:2] != ["M", "N"]:
-            raise DomesError(f"TYPE matrix header must start with 'M N', got {' '.join(header[:2])!r}")
+            raise InputError(f"TYPE matrix header must start with 'M N', got {' '.join(header[:2])!r}")
         if len(body) != size:
-            raise DomesError(f"TYPE matrix has {len(body)} rows for {size} links")
+            raise InputError(f"TYPE matrix has {len(body)} rows for {size} links")
         links = []
         for r, row in enumerate(body, 2):
             if len(row) != len(header):
-                raise DomesError(f"TYPE matrix line {r}: {len(row)} entries for {len(header)} columns")
+                raise InputError(f"TYPE matrix line {r}: {len(row)} entries for {len(header)} columns")
             roles = [TYPE_COLUMNS.get(c, c) for c, x in zip(header[2:], row[2:]) if x == "1" and c not in ("R", "P")]
             links.append((row[0], roles))
         names = [row[0] for row in body]
@@ -301,7 +301,7 @@ class Mechanism:
                 degree[v] += 1
         for v, row in enumerate(body):
             if row[1] != str(degree[v]):
-                raise DomesError(f"TYPE matrix: link {row[0]} has N={row[1]} but {degree[v]} joints in the adjacency matrix")
+                raise InputError(f"TYPE matrix: link {row[0]} has N={row[1]} but {degree[v]} joints in the adjacency matrix")
         return mechanism
 
 

@@ -17,18 +17,18 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from domes.errors import DomesError
+from domes.errors import InputError
 
 
 def read_text(path: str | Path) -> str:
-    """A UTF-8 text file, or a DomesError that names it and says why it cannot be read."""
+    """A UTF-8 text file, or an InputError that names it and says why it cannot be read."""
     path = Path(path)
     try:
         return path.read_text(encoding="utf-8")
     except OSError as exc:
-        raise DomesError(f"{path}: cannot read: {exc.strerror}") from None
+        raise InputError(f"{path}: cannot read: {exc.strerror}") from None
     except UnicodeDecodeError:
-        raise DomesError(f"{path}: not UTF-8 text") from None
+        raise InputError(f"{path}: not UTF-8 text") from None
 
 
 @dataclass(frozen=True)
@@ -44,7 +44,7 @@ class TomlSource:
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
-            raise DomesError(f"{path}: TOML syntax error: {exc}") from None
+            raise InputError(f"{path}: TOML syntax error: {exc}") from None
         return cls(path, text, data)
 
     @classmethod
@@ -69,7 +69,7 @@ class TomlSource:
                     return number
         return 0
 
-    def error(self, message: str, line: int | None = None) -> DomesError:
-        """A DomesError that names this file and, when known, the line."""
+    def error(self, message: str, line: int | None = None) -> InputError:
+        """An InputError that names this file and, when known, the line."""
         where = f"{self.path}:{line}" if line else self.path
-        return DomesError(f"{where}: {message}")
+        return InputError(f"{where}: {message}")

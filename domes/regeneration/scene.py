@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.knowledge.evaluate import compile_criterion
 from domes.knowledge.language import normalise_name, parse_criterion
 from domes.knowledge.tree import And, Criterion, ForAll, JointCount, Not, names_used
@@ -95,7 +95,7 @@ def load_scene(name_or_path: str | Path) -> Scene:
     if not path.is_file():
         candidate = knowledge_dir() / "scenes" / f"{name_or_path}.toml"
         if not candidate.is_file():
-            raise DomesError(f"no scene {str(name_or_path)!r}: not a file, and not one of: {', '.join(scene_names())}")
+            raise InputError(f"no scene {str(name_or_path)!r}: not a file, and not one of: {', '.join(scene_names())}")
         path = candidate
     return parse_scene(TomlSource.read(path))
 

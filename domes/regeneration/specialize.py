@@ -28,13 +28,13 @@ from itertools import combinations
 from typing import Callable
 
 from domes.chains.generate import atlas
-from domes.errors import DomesError
+from domes.errors import InputError, NothingToPropose
 from domes.knowledge.evaluate import graph_features
 from domes.labelled.graph import LabelledChain
 from domes.regeneration.scene import Scene, Stage
 
 
-class EmptyStage(DomesError):
+class EmptyStage(NothingToPropose):
     """A stage whose rules leave no choice on any chain (its rules cannot hold there)."""
 
 
@@ -150,7 +150,7 @@ def regenerate(scene: Scene, progress: Callable[[str], None] | None = None) -> R
     """Run every stage of ``scene`` (see the module doc)."""
     chains = atlas(scene.links, scene.dof, scene.include_fractionated)
     if not chains:
-        raise DomesError(f"scene {scene.name!r}: there are no chains with {scene.links} links and DOF {scene.dof}")
+        raise InputError(f"scene {scene.name!r}: there are no chains with {scene.links} links and DOF {scene.dof}")
     # (labelled chain, index of its chain in the atlas, |Aut| of that chain)
     current = []
     for index, (n, edges) in enumerate(chains, 1):

@@ -9,7 +9,7 @@ import sys
 import tempfile
 
 from domes.chains.chain import Chain
-from domes.errors import DomesError
+from domes.errors import InputError
 from domes.kinematics import PRESETS, load_mechanism
 from domes.kinematics.cli import parse_sweep
 from domes.labelled import JOINT_TYPES, LabelledChain
@@ -49,7 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _parse_role(text: str) -> tuple[int, str]:
     link, sep, name = text.partition("=")
     if not sep or not name.strip() or not link.strip().isdigit():
-        raise DomesError(f"--role {text!r}: expected LINK=NAME, e.g. 3=swing_arm")
+        raise InputError(f"--role {text!r}: expected LINK=NAME, e.g. 3=swing_arm")
     return int(link), name.strip()
 
 
@@ -57,7 +57,7 @@ def _parse_joint(text: str) -> tuple[tuple[int, int], str]:
     pair, sep, kind = text.partition("=")
     ends = pair.split("-")
     if not sep or len(ends) != 2 or not all(e.strip().isdigit() for e in ends):
-        raise DomesError(f"--joint {text!r}: expected U-V=T, e.g. 4-5=P")
+        raise InputError(f"--joint {text!r}: expected U-V=T, e.g. 4-5=P")
     return (int(ends[0]), int(ends[1])), kind.strip()
 
 
@@ -78,7 +78,7 @@ def labelled_from_args(chain: Chain, args: argparse.Namespace) -> LabelledChain 
     for text in args.joint:
         (u, v), kind = _parse_joint(text)
         if (min(u, v), max(u, v)) not in joints:
-            raise DomesError(f"--joint {text!r}: links {u} and {v} are not jointed in this chain (joints: {' '.join(f'{a}-{b}' for a, b in chain.edges)})")
+            raise InputError(f"--joint {text!r}: links {u} and {v} are not jointed in this chain (joints: {' '.join(f'{a}-{b}' for a, b in chain.edges)})")
         types[(u, v)] = kind
     return LabelledChain.build(chain.n, chain.edges, types, roles)
 
@@ -103,7 +103,7 @@ def write_text(text: str, path: str | None) -> None:
 def _size(given: float | None, default: float) -> float:
     size = default if given is None else given
     if not 40 <= size <= 4000:
-        raise DomesError(f"--size must be between 40 and 4000 pixels, got {size}")
+        raise InputError(f"--size must be between 40 and 4000 pixels, got {size}")
     return size
 
 
@@ -113,7 +113,7 @@ def run_draw(args: argparse.Namespace) -> int:
     args.size = _size(args.size, 220.0)
     given = [name for name, value in (("--at", args.at), ("--coupler", args.coupler), ("--sweep", args.sweep)) if value not in (None, [])]
     if given:
-        raise DomesError(f"{', '.join(given)}: only for a mechanism file (FILE.json), not for a chain")
+        raise InputError(f"{', '.join(given)}: only for a mechanism file (FILE.json), not for a chain")
     chain = Chain.from_graph6(args.graph6)
     labelled = labelled_from_args(chain, args)
     if labelled is None:
@@ -131,7 +131,7 @@ def draw_mechanism_file(args: argparse.Namespace) -> int:
     """``domes draw FILE.json``: the mechanism to scale at ``--at``, with its coupler curves."""
     given = [name for name, value in (("--ground", args.ground), ("--input", args.input), ("--role", args.role), ("--joint", args.joint), ("--graph", args.graph)) if value]
     if given:
-        raise DomesError(f"{', '.join(given)}: only for a chain (graph6); a mechanism file has its own ground, inputs and joints")
+        raise InputError(f"{', '.join(given)}: only for a chain (graph6); a mechanism file has its own ground, inputs and joints")
     size = _size(args.size, 400.0)
     mech = load_mechanism(args.graph6)
     scale = math.radians if mech.joint(mech.inputs[0].joint).kind == "R" else float

@@ -28,7 +28,7 @@ import math
 from dataclasses import dataclass
 from typing import Mapping, Sequence
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 from domes.kinematics import CouplerPoint, DeadPoint, Kinematics, Mechanism, solve, sweep
 from domes.sketch import symbols
 from domes.sketch.draw import INK, PLATE_FILL, Frame
@@ -155,7 +155,7 @@ def coupler_curves(mech: Mechanism, names: Sequence[str], span: tuple[float, flo
     known = [j.name for j in mech.joints] + [p.name for p in mech.points]
     for name in names:
         if name not in known:
-            raise DomesError(f"{mech.source or mech.name}: no coupler point or joint {name!r} to trace; there are {', '.join(known)}")
+            raise InputError(f"{mech.source or mech.name}: no coupler point or joint {name!r} to trace; there are {', '.join(known)}")
     # Every joint is solved too: the whole mechanism must assemble, not only the links carrying the points.
     outputs = list(dict.fromkeys([f"point:{n}" for n in names] + [f"point:{j.name}" for j in mech.joints]))
     q0 = pose_input(mech)

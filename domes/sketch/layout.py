@@ -47,7 +47,7 @@ from typing import Mapping, Sequence
 import networkx as nx
 import numpy as np
 
-from domes.errors import DomesError
+from domes.errors import InputError
 
 Edge = tuple[int, int]
 Point = tuple[float, float]
@@ -106,10 +106,10 @@ def _checked_edges(n: int, edges: Sequence[Edge]) -> tuple[Edge, ...]:
     graph = nx.Graph(joints)
     graph.add_nodes_from(range(n))
     if n < 2 or not nx.is_connected(graph):
-        raise DomesError(f"cannot draw a chain of {n} links that is not connected")
+        raise InputError(f"cannot draw a chain of {n} links that is not connected")
     low = [v for v in range(n) if graph.degree(v) < 2]
     if low:
-        raise DomesError(f"cannot draw link(s) {low}: every link of a chain needs at least two joints")
+        raise InputError(f"cannot draw link(s) {low}: every link of a chain needs at least two joints")
     return joints
 
 
@@ -340,7 +340,7 @@ def _nonplanar_layout(n: int, joints: tuple[Edge, ...], graph: nx.Graph, equaliz
                 and nx.check_planarity(rest)[0]
             ):
                 return _with_branches(n, joints, rest, chosen, equalize, refine)
-    raise DomesError(f"no planar part found to draw the chain with joints {list(joints)}")
+    raise InputError(f"no planar part found to draw the chain with joints {list(joints)}")
 
 
 def _with_branches(
@@ -490,10 +490,10 @@ def layout_from_positions(chain, positions: Mapping[Edge, Point]) -> SkeletonLay
     given = {(min(u, v), max(u, v)): (float(p[0]), float(p[1])) for (u, v), p in positions.items()}
     missing = [e for e in joints if e not in given]
     if missing:
-        raise DomesError(f"no position given for joint(s) {missing}")
+        raise InputError(f"no position given for joint(s) {missing}")
     extra = sorted(set(given) - set(joints))
     if extra:
-        raise DomesError(f"position(s) given for {extra}, which are not joints of the chain")
+        raise InputError(f"position(s) given for {extra}, which are not joints of the chain")
     points = tuple(given[e] for e in joints)
     rings, centres = [], []
     for v in range(n):

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from domes.errors import DomesError
+from domes.errors import DomesError, InputError
 
 #: Motion-space DOF λ of a planar and of a spatial mechanism.
 PLANAR, SPATIAL = 3, 6
@@ -40,9 +40,9 @@ class NumberSynthesis:
 
 def _check_int(name: str, value: object, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
-        raise DomesError(f"{name} must be an integer, got {value!r}")
+        raise InputError(f"{name} must be an integer, got {value!r}")
     if value < minimum:
-        raise DomesError(f"{name} must be >= {minimum}, got {value}")
+        raise InputError(f"{name} must be >= {minimum}, got {value}")
     return value
 
 
@@ -60,16 +60,16 @@ def number_synthesis(dof: int, loops: int, space: int = PLANAR, gear_pairs: int 
     _check_int("loops (L_ind)", loops, 0)
     _check_int("gear_pairs (j_G)", gear_pairs, 0)
     if space not in (PLANAR, SPATIAL):
-        raise DomesError(f"space (λ) must be 3 (planar) or 6 (spatial), got {space!r}")
+        raise InputError(f"space (λ) must be 3 (planar) or 6 (spatial), got {space!r}")
     links = dof + (space - 1) * loops - gear_pairs + 1
     joints = dof + space * loops - gear_pairs
     if gear_pairs > joints:
-        raise DomesError(
+        raise InputError(
             f"{gear_pairs} gear pairs cannot fit in a chain of {joints} joints "
             f"(W={dof}, L={loops}, λ={space}); use fewer gear pairs or more loops"
         )
     if links < 2 and (loops or joints):
-        raise DomesError(
+        raise InputError(
             f"W={dof}, L={loops}, λ={space}, j_G={gear_pairs} gives {links} links: "
             "no mechanism has fewer than 2 links; use fewer gear pairs or more loops"
         )
@@ -84,19 +84,19 @@ def chain_joints(links: int, dof: int) -> int:
     >>> chain_joints(5, 1)
     Traceback (most recent call last):
     ...
-    domes.errors.DomesError: no planar chain of simple revolute joints has 5 links and DOF 1: the joint count (3(n-1) - F)/2 = 11/2 is not an integer; try 4 or 6 links
+    domes.errors.InputError: no planar chain of simple revolute joints has 5 links and DOF 1: the joint count (3(n-1) - F)/2 = 11/2 is not an integer; try 4 or 6 links
     """
     _check_int("links", links, 1)
     _check_int("dof", dof, 0)
     twice = 3 * (links - 1) - dof
     if twice % 2:
-        raise DomesError(
+        raise InputError(
             f"no planar chain of simple revolute joints has {links} links and DOF {dof}: "
             f"the joint count (3(n-1) - F)/2 = {twice}/2 is not an integer; "
             f"try {links - 1} or {links + 1} links"
         )
     if twice < 0:
-        raise DomesError(f"a chain of {links} links cannot have DOF {dof} (at most {3 * (links - 1)})")
+        raise InputError(f"a chain of {links} links cannot have DOF {dof} (at most {3 * (links - 1)})")
     return twice // 2
 
 
@@ -161,7 +161,7 @@ def link_assortments(links: int, joints: int, max_degree: int | None = None) -> 
     _check_int("joints", joints, 0)
     loops = joints - links + 1
     if loops < 1:
-        raise DomesError(f"{links} links and {joints} joints form no closed loop (L = j - n + 1 = {loops})")
+        raise InputError(f"{links} links and {joints} joints form no closed loop (L = j - n + 1 = {loops})")
     top = max(2, loops + 1) if max_degree is None else _check_int("max_degree", max_degree, 2)
     excess = 2 * joints - 2 * links  # Σ (d − 2)·n_d
     found: list[LinkAssortment] = []
