@@ -14,7 +14,7 @@ import argparse
 import platform
 import time
 
-from domes.chains import ChainGenerator
+from domes.typesynth import ChainGenerator
 
 ATLASES = [
     (4, 1), (6, 1), (8, 1), (10, 1), (12, 1),

@@ -17,10 +17,10 @@ import tempfile
 import time
 from pathlib import Path
 
-from domes.chains.generate import clear_cache
+from domes.typesynth.atlas import clear_cache
 from domes.expert.replay import scratch_casebase
-from domes.expert.session import Session
-from domes.paths import knowledge_dir
+from domes.expert.dialogue import Session
+from domes.io.resources import knowledge_dir
 
 
 def timed(work, urls: list[str]) -> float:

@@ -23,11 +23,11 @@ import mpmath
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from domes.kinematics import Input, Joint, Kinematics, Mechanism, accuracy, load_mechanism  # noqa: E402
-from domes.kinematics.checks import output_range  # noqa: E402
-from domes.kinematics.examples import four_bar, triple_rocker  # noqa: E402
-from domes.kinematics.structure import evaluate  # noqa: E402
-from domes.kinematics.sweep import run_sweep, sweep  # noqa: E402
+from domes.motion import Input, Joint, Kinematics, Mechanism, accuracy, load_mechanism  # noqa: E402
+from domes.motion.planar.checks import output_range  # noqa: E402
+from domes.motion.planar.examples import four_bar, triple_rocker  # noqa: E402
+from domes.motion.planar.structure import evaluate  # noqa: E402
+from domes.motion.planar.sweep import run_sweep, sweep  # noqa: E402
 
 mpmath.mp.dps = 40
 SAMPLE = math.radians(10)

@@ -9,10 +9,10 @@ import argparse
 import platform
 import time
 
-from domes.chains import chains
-from domes.chains.generate import clear_cache
-from domes.labelled import label_joints
-from domes.regeneration import load_scene, regenerate, scene_names
+from domes.typesynth import chains
+from domes.typesynth.atlas import clear_cache
+from domes.typesynth import label_joints
+from domes.typesynth import load_scene, regenerate, scene_names
 
 
 def best_of(repeat: int, work) -> tuple[float, object]:

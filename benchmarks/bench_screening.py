@@ -18,13 +18,13 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from domes.chains import chains  # noqa: E402
-from domes.knowledge.evaluate import compile_criterion, graph_features, topology  # noqa: E402
+from domes.typesynth import chains  # noqa: E402
+from domes.language.evaluate import compile_criterion, graph_features, topology  # noqa: E402
 from domes.knowledge.frames import CriterionFrame  # noqa: E402
 from domes.knowledge.screening import screen  # noqa: E402
-from domes.knowledge.sources import read_knowledge  # noqa: E402
-from domes.knowledge.store import repo_root  # noqa: E402
-from domes.labelled import LabelledChain  # noqa: E402
+from domes.io.criteria import read_knowledge  # noqa: E402
+from domes.store.casebase import repo_root  # noqa: E402
+from domes.model import LabelledChain  # noqa: E402
 
 EXTRA = [
     ("max-degree-4", "every vertex must have degree at most 4"),

@@ -26,9 +26,9 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from domes.chains import chains  # noqa: E402
-from domes.kinematics import load_mechanism, sweep  # noqa: E402
-from domes.regeneration import load_scene, regenerate  # noqa: E402
+from domes.typesynth import chains  # noqa: E402
+from domes.motion import load_mechanism, sweep  # noqa: E402
+from domes.typesynth import load_scene, regenerate  # noqa: E402
 from domes.sketch import chain_atlas_html, coupler_curves, dimensioned_svg, layout_quality, regeneration_html, skeleton_layout  # noqa: E402
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "mechanisms")

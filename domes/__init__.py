@@ -1,9 +1,16 @@
 """DOMES-py: a rule-based expert system for creative mechanism design.
 
-The package follows the design pipeline, one subpackage per stage:
+The package follows the design pipeline (docs/architecture.md):
 
-- :mod:`domes.synthesis` -- number synthesis (links and joints from W, λ, L, j_G)
-- :mod:`domes.chains` -- the unlabelled graph generator (the atlas of chains)
+- :mod:`domes.model` -- chains, labelled chains, dimensioned mechanisms
+- :mod:`domes.language` -- the criterion language of criteria and scene rules
+- :mod:`domes.typesynth` -- number synthesis, the chain atlas, labelling, regeneration
+- :mod:`domes.knowledge` -- criterion and problem frames, relevance, screening
+- :mod:`domes.motion` -- the kinematics backend
+- :mod:`domes.design` -- dimensional verification (synthesis, dynamics, tolerances to come)
+- :mod:`domes.expert` -- the design expert: rules, case-based reasoning, the dialogue
+- at the edge: :mod:`domes.io` (files, package data), :mod:`domes.store` (SQL),
+  :mod:`domes.sketch` (drawings, pages), :mod:`domes.cli` (the command line)
 
 Example
 -------
@@ -15,8 +22,9 @@ Example
 """
 
 from domes.errors import DomesError
-from domes.synthesis import NumberSynthesis, link_assortments, number_synthesis
-from domes.chains import Chain, chains, chain_properties
+from domes.typesynth import NumberSynthesis, link_assortments, number_synthesis
+from domes.model import Chain, chain_properties
+from domes.typesynth import chains
 
 __version__ = "0.1.0"
 

@@ -14,7 +14,7 @@ the same as, similar to or different from one of them:
   MECXPRT structure rule derives links and joints, and the same steps follow.
 
 ``engine.pending`` is the question waiting for an answer, ``engine.answer(...)``
-gives it one; the session (:mod:`domes.expert.session`) does the asking.
+gives it one; the session (:mod:`domes.expert.dialogue`) does the asking.
 """
 
 from __future__ import annotations

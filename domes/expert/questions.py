@@ -15,9 +15,9 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from domes.errors import DomesError, InputError
-from domes.knowledge.language import normalise_name, parse_criterion
-from domes.labelled.graph import LabelledChain
-from domes.regeneration.scene import scene_names
+from domes.language.parse import normalise_name, parse_criterion
+from domes.model.labelled import LabelledChain
+from domes.typesynth.scene import scene_names
 
 
 @dataclass(frozen=True)
@@ -147,8 +147,8 @@ STATIC = {
 
 
 def verify_parser(kept: dict[int, LabelledChain]):
-    """``none``, or ``CANDIDATE FILE CHECK`` (see :mod:`domes.expert.verify`)."""
-    from domes.expert.verify import load_for, parse_check
+    """``none``, or ``CANDIDATE FILE CHECK`` (see :mod:`domes.design.verify`)."""
+    from domes.design.verify import load_for, parse_check
 
     def parse(text: str):
         words = text.split()

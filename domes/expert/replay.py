@@ -18,9 +18,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from domes.errors import InputError
-from domes.expert.session import Outcome, Session, load_transcript
-from domes.knowledge.store import KnowledgeBase, build, database_url, sqlite_path
-from domes.paths import knowledge_dir
+from domes.expert.dialogue import Outcome, Session, load_transcript
+from domes.store.casebase import KnowledgeBase, build, database_url, sqlite_path
+from domes.io.resources import knowledge_dir
 
 #: Frame fields that may differ between runs without the result changing.
 IGNORED = ("date",)

@@ -14,14 +14,14 @@ import re
 from typing import Callable
 
 from domes.errors import DomesError
-from domes.expert.design import DesignRun, design
+from domes.expert.run import DesignRun, design
 from domes.expert.facts import STRUCTURAL, Phase, Relation
 from domes.expert.reasoner import recognise
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
 from domes.knowledge.relevance import relevance_vector
-from domes.knowledge.store import KnowledgeBase
-from domes.synthesis.number import number_synthesis
+from domes.store.casebase import KnowledgeBase
+from domes.typesynth.number import number_synthesis
 
 
 class World:
@@ -185,7 +185,7 @@ class World:
 
     def verify(self, candidate: int, mech, check: tuple, path: str) -> None:
         """Run a dimensional check on a kept candidate; the result joins the design's notes."""
-        from domes.expert.verify import run_check
+        from domes.design.verify import run_check
 
         try:
             text = f"verified candidate {candidate} with {path}: {run_check(mech, check)}"

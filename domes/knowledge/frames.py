@@ -22,10 +22,10 @@ from dataclasses import dataclass, replace
 from typing import Any, Iterable, Mapping
 
 from domes.errors import DomesError, InputError
-from domes.knowledge.language import parse_criterion, parse_relevance
-from domes.knowledge.render import render_criterion, render_relevance
-from domes.knowledge.tree import AllOf, Always, Criterion, HasName, Relevance, category, from_json, names_used, to_json
-from domes.knowledge.tree import level as cost_level
+from domes.language.parse import parse_criterion, parse_relevance
+from domes.language.render import render_criterion, render_relevance
+from domes.language.tree import AllOf, Always, Criterion, HasName, Relevance, category, from_json, names_used, to_json
+from domes.language.tree import level as cost_level
 
 ID_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$")
 DATE_PATTERN = re.compile(r"^\d{4}(-\d{2}(-\d{2})?)?$")
@@ -213,7 +213,7 @@ class CriterionFrame:
 def default_relevance(tree: Criterion) -> Relevance:
     """Relevant to problems having every named vertex and loop the criterion mentions; else always.
 
-    >>> from domes.knowledge.language import parse_criterion
+    >>> from domes.language.parse import parse_criterion
     >>> default_relevance(parse_criterion("the swing arm is adjacent to the ground"))
     AllOf(items=(HasName(name='ground'), HasName(name='swing_arm')))
     """

@@ -23,7 +23,7 @@ from typing import Any, Mapping
 
 from domes.errors import InputError
 from domes.knowledge.frames import ID_PATTERN
-from domes.knowledge.language import normalise_name
+from domes.language.parse import normalise_name
 from domes.knowledge.relevance import RelevanceVector
 
 #: Structural attributes (Table 7-1 slots 3-10), all whole numbers.

@@ -13,7 +13,7 @@ base, in the order of the knowledge base (DOMES: element k stands for
 criterion k). It carries the criterion ids, so that vectors made when the
 knowledge base was smaller can be aligned and merged (element-wise OR).
 
->>> from domes.knowledge.language import parse_relevance
+>>> from domes.language.parse import parse_relevance
 >>> p = Problem(dof=1, loops=2, slider_pairs=1, names=frozenset({"piston"}))
 >>> is_relevant(parse_relevance("the problem has “piston” and the number of slider pairs is at least 1"), p)
 True
@@ -25,8 +25,8 @@ from dataclasses import dataclass
 from typing import Iterable, Mapping
 
 from domes.errors import InputError
-from domes.knowledge.language import normalise_name
-from domes.knowledge.tree import PROBLEM_ATTRIBUTES, AllOf, Always, AnyOf, Attribute, ClassIs, HasName, NoneOf, Relevance
+from domes.language.parse import normalise_name
+from domes.language.tree import PROBLEM_ATTRIBUTES, AllOf, Always, AnyOf, Attribute, ClassIs, HasName, NoneOf, Relevance
 
 
 @dataclass(frozen=True)

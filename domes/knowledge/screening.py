@@ -8,7 +8,7 @@ the remaining criteria are skipped and the result names the criterion that
 emptied the set (DOMES, Fig. 7-8). ``max_level`` is the screening-depth
 knob: criteria above it are not applied.
 
->>> from domes.labelled import LabelledChain
+>>> from domes.model import LabelledChain
 >>> from domes.knowledge.frames import CriterionFrame
 >>> four_bar = [(0, 1), (1, 2), (2, 3), (0, 3)]
 >>> crank_rocker = LabelledChain.build(4, four_bar, roles={0: {"ground"}, 1: {"input"}})
@@ -25,9 +25,9 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
 from domes.errors import InputError
-from domes.knowledge.evaluate import compile_criterion, graph_features
+from domes.language.evaluate import compile_criterion, graph_features
 from domes.knowledge.relevance import RelevanceVector, is_relevant
-from domes.knowledge.tree import Always, Relevance
+from domes.language.tree import Always, Relevance
 
 
 @dataclass(frozen=True)

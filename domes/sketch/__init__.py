@@ -4,7 +4,7 @@ DOMES's mechanism-sketch generator (§7-2, module 8). Everything is written
 as SVG by the project itself (:mod:`domes.sketch.svg`), deterministic to
 the byte.
 
->>> from domes.chains import chains
+>>> from domes.typesynth import chains
 >>> svg = chain_svg(chains(links=8, dof=1)[0])
 >>> svg.startswith("<svg"), svg.count('class="joint"')
 (True, 10)

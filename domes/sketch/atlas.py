@@ -3,7 +3,7 @@
 The page is self-contained (inline SVG and CSS, no script) and well-formed
 XML, so any browser shows it and any XML parser reads it back.
 
->>> from domes.chains import chains
+>>> from domes.typesynth import chains
 >>> page = chain_atlas_html(chains(links=6, dof=1), title="Six-bar chains")
 >>> page.count('class="card"'), page.startswith("<!DOCTYPE html>")
 (2, True)
@@ -14,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Iterable, Sequence
 
-from domes.chains.chain import Chain
+from domes.model.chain import Chain
 from domes.errors import DomesError
 from domes.sketch.draw import SIZE, chain_svg
 from domes.sketch.layout import SkeletonLayout, skeleton_layout
@@ -125,7 +125,7 @@ def mechanism_card(
     ``badge`` marks the card (e.g. ``"existing design"``); ``positions`` as in
     :func:`~domes.sketch.mechanism.mechanism_svg`.
 
-    >>> from domes.labelled import LabelledChain
+    >>> from domes.model import LabelledChain
     >>> four_bar = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)], roles={0: {"ground"}})
     >>> mechanism_card(1, four_bar, badge="existing design").properties[0]
     ('roles', '0: ground')
@@ -148,7 +148,7 @@ def chain_atlas_html(chains: Sequence, title: str | None = None, *, graph: bool 
 
 
 def candidate_card(candidate) -> Card:
-    """The card of one regenerated candidate (``domes.regeneration.Candidate``): its sketch and where it came from.
+    """The card of one regenerated candidate (``domes.typesynth.Candidate``): its sketch and where it came from.
 
     A candidate equal to an existing design gets the badge ``existing design``
     (a red frame) and the design's name among its properties. Should the
@@ -170,9 +170,9 @@ def candidate_card(candidate) -> Card:
 
 
 def regeneration_html(result, *, new_only: bool = False) -> str:
-    """The atlas page of a regeneration (``domes.regeneration.Regeneration``): one card per candidate.
+    """The atlas page of a regeneration (``domes.typesynth.Regeneration``): one card per candidate.
 
-    >>> from domes.regeneration import load_scene, regenerate
+    >>> from domes.typesynth import load_scene, regenerate
     >>> page = regeneration_html(regenerate(load_scene("motorcycle")))
     >>> page.count('data-id="'), page.count('class="card marked"')
     (6, 1)

@@ -1,6 +1,6 @@
 """Dimensioned drawings: a mechanism file drawn to scale at an input, with its coupler curves.
 
-The joint positions come from the kinematics backend (:mod:`domes.kinematics`):
+The joint positions come from the kinematics backend (:mod:`domes.motion`):
 :func:`pose` solves the mechanism at one value of its (first) input,
 :func:`coupler_curves` sweeps that input and traces named points, and
 :func:`dimensioned_svg` draws both. Links are drawn through their joints
@@ -12,7 +12,7 @@ length. A curve stops where its sweep
 stops (a limit or other dead point, marked with a cross); it is closed only
 when the input turns fully and the point comes back to where it started.
 
->>> from domes.kinematics.examples import four_bar
+>>> from domes.motion.planar.examples import four_bar
 >>> p = pose(four_bar(), math.radians(90))
 >>> [round(c, 12) for c in p.joints["B"]]
 [0.0, 1.0]
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from typing import Mapping, Sequence
 
 from domes.errors import DomesError, InputError
-from domes.kinematics import CouplerPoint, DeadPoint, Kinematics, Mechanism, solve, sweep
+from domes.motion import CouplerPoint, DeadPoint, Kinematics, Mechanism, solve, sweep
 from domes.sketch import symbols
 from domes.sketch.draw import INK, PLATE_FILL, Frame
 from domes.sketch.mechanism import HATCH
@@ -145,7 +145,7 @@ def coupler_curves(mech: Mechanism, names: Sequence[str], span: tuple[float, flo
     more than ``step · size`` (rad × length) in one step, as near a limit of
     a P input, the step is halved (up to :data:`REFINE_DEPTH` times).
 
-    >>> from domes.kinematics.examples import triple_rocker
+    >>> from domes.motion.planar.examples import triple_rocker
     >>> (curve,) = coupler_curves(triple_rocker(), ["B"])
     >>> curve.closed, [d.kind for d in curve.stops]
     (False, ['limit', 'limit'])

@@ -5,7 +5,7 @@ the drawing back: a link is a ``line`` (bar) or ``polygon`` (plate) of class
 ``link`` with ``data-link``; a joint is a ``circle`` of class ``joint`` with
 ``data-joint="u-v"``.
 
->>> from domes.chains import Chain
+>>> from domes.model import Chain
 >>> svg = chain_svg(Chain.from_graph6("Cr"))
 >>> svg.count('class="link bar"'), svg.count('class="joint"')
 (4, 4)
@@ -147,7 +147,7 @@ def chain_svg(chain, layout: SkeletonLayout | None = None, *, size: float = SIZE
     ``graph=True`` adds the abstract graph (links as vertices) beside it;
     ``numbers`` writes each link's number. Same input, same bytes.
 
-    >>> from domes.chains import chains
+    >>> from domes.typesynth import chains
     >>> svg = chain_svg(chains(links=6, dof=1)[1], graph=True)
     >>> svg.count('class="link plate"'), svg.count('class="graph-vertex"')
     (2, 6)

@@ -31,7 +31,7 @@ multi-joint links, or direct joints) are taken out, the rest is laid out as
 above, and the branches are drawn back as straight bars between pins placed
 inside their end plates; those branches cross other links.
 
->>> from domes.chains import Chain
+>>> from domes.model import Chain
 >>> layout = skeleton_layout(Chain.from_graph6("Cr"))     # the four-bar
 >>> layout.planar, len(layout.positions), layout.link_rings
 (True, 4, ((0, 1), (0, 2), (1, 3), (2, 3)))
@@ -118,7 +118,7 @@ def skeleton_layout(chain, *, equalize: int = EQUALIZE_ROUNDS, refine: int = REF
 
     Deterministic: the same chain (same link numbering) gives the same layout.
 
-    >>> from domes.chains import chains
+    >>> from domes.typesynth import chains
     >>> watt = chains(links=6, dof=1)[0]
     >>> layout = skeleton_layout(watt)
     >>> sorted(len(ring) for ring in layout.link_rings)
@@ -480,7 +480,7 @@ def layout_from_positions(chain, positions: Mapping[Edge, Point]) -> SkeletonLay
     centroid. Nothing is checked about crossings (``planar`` is false): the
     positions decide.
 
-    >>> from domes.chains import Chain
+    >>> from domes.model import Chain
     >>> square = {(0, 1): (0, 0), (1, 2): (1, 0), (2, 3): (1, 1), (0, 3): (0, 1)}
     >>> layout_from_positions(Chain(4, ((0, 1), (1, 2), (2, 3), (0, 3))), square).link_lengths()
     (1.0, 1.0, 1.0, 1.0)

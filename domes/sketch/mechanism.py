@@ -19,7 +19,7 @@ the symbols of its labels, after Table 3-5 of seed 002:
   roller follower, ``O`` joints as a roller on a track;
 * every role written beside its link.
 
->>> from domes.labelled import LabelledChain
+>>> from domes.model import LabelledChain
 >>> crank_slider = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)], {(0, 3): "P"},
 ...                                    roles={0: {"ground"}, 1: {"input"}})
 >>> svg = mechanism_svg(crank_slider)

@@ -2,7 +2,7 @@ import shutil
 
 import pytest
 
-from domes.paths import repo_root
+from domes.io.resources import repo_root
 
 
 @pytest.fixture

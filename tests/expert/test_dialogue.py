@@ -8,9 +8,9 @@ import pytest
 
 from domes.errors import DomesError
 from domes.expert.replay import replay
-from domes.expert.session import Session, parse_answers
-from domes.knowledge.store import KnowledgeBase
-from domes.paths import knowledge_dir
+from domes.expert.dialogue import Session, parse_answers
+from domes.store.casebase import KnowledgeBase
+from domes.io.resources import knowledge_dir
 
 MOTORCYCLE = (knowledge_dir().parent / "examples" / "design" / "motorcycle.answers").read_text()
 CASE = "motorcycle-rear-suspension-1"
@@ -146,7 +146,8 @@ def test_verification_of_a_candidate(casebase):
     # kinematics backend's own answer.
     import math
 
-    from domes.kinematics import checks, load_mechanism
+    from domes.motion import load_mechanism
+    from domes.motion.planar import checks
 
     outcome, said = run(casebase, MOTORCYCLE.replace("class: motorcycle rear suspension\n", "class: test suspension\n"))
     note = next(n for n in outcome.frame.notes if n.startswith("verified candidate 2"))

@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from domes.paths import repo_root
+from domes.io.resources import repo_root
 
 pexpect = pytest.importorskip("pexpect")
 
@@ -36,7 +36,7 @@ def empty_casebase(tmp_path):
     # the shipped criteria, no solved problems: the motorcycle problem is new
     target = tmp_path / "casebase.db"
     shutil.copyfile(repo_root() / "casebase.db", target)
-    from domes.knowledge.store import KnowledgeBase
+    from domes.store.casebase import KnowledgeBase
 
     with KnowledgeBase(str(target)) as kb:
         for p in kb.problems():

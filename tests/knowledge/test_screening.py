@@ -5,15 +5,15 @@ import json
 
 import pytest
 
-from domes.chains import chains
+from domes.typesynth import chains
 from domes.errors import DomesError
-from domes.knowledge.evaluate import compile_criterion, graph_features
+from domes.language.evaluate import compile_criterion, graph_features
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.relevance import Problem, RelevanceVector, relevance_vector
 from domes.knowledge.screening import CostlyCriterion, screen
-from domes.knowledge.sources import read_knowledge
-from domes.knowledge.store import repo_root
-from domes.labelled import LabelledChain
+from domes.io.criteria import read_knowledge
+from domes.store.casebase import repo_root
+from domes.model import LabelledChain
 
 
 def motorcycle_candidates():
@@ -131,7 +131,7 @@ def test_disabled_criteria_are_not_applied():
 
 def test_screen_command(tmp_path, capsys):
     from domes.cli import main
-    from domes.knowledge.store import build
+    from domes.store.casebase import build
 
     db = tmp_path / "kb.db"
     build(repo_root() / "knowledge", str(db))

@@ -8,10 +8,10 @@ import pytest
 from domes.cli import main
 from domes.errors import DomesError
 from domes.knowledge.frames import CriterionFrame
-from domes.knowledge.models import SCHEMA_VERSIONS
-from domes.knowledge.sources import read_cases, read_file, read_knowledge
-from domes.knowledge.store import KnowledgeBase, build
-from domes.paths import repo_root
+from domes.store.models import SCHEMA_VERSIONS
+from domes.io.criteria import read_cases, read_file, read_knowledge
+from domes.store.casebase import KnowledgeBase, build
+from domes.io.resources import repo_root
 
 SHIPPED = repo_root() / "knowledge"
 

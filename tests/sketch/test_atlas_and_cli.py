@@ -8,7 +8,7 @@ import xml.etree.ElementTree as ET
 import pytest
 
 import domes.sketch.atlas as atlas
-from domes.chains import chains
+from domes.typesynth import chains
 from domes.cli import main
 from domes.errors import DomesError
 from domes.sketch import Card, atlas_html, chain_atlas_html

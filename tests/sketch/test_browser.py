@@ -9,8 +9,8 @@ import subprocess
 
 import pytest
 
-from domes.chains import chains
-from domes.regeneration import load_scene, regenerate
+from domes.typesynth import chains
+from domes.typesynth import load_scene, regenerate
 from domes.sketch import chain_atlas_html
 from domes.sketch.atlas import regeneration_html
 

@@ -12,7 +12,8 @@ import networkx as nx
 import pytest
 from svgcheck import closest_joints, crossings, link_size, median_link_size, parse
 
-from domes.chains import Chain, chains
+from domes.model import Chain
+from domes.typesynth import chains
 from domes.sketch import chain_svg, layout_from_positions, skeleton_layout
 
 #: Closest two joints, as a fraction of the median link size (measured worst: 0.334 for the

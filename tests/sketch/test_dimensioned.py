@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 
 from domes.cli import main
-from domes.kinematics import load_mechanism, mechanism_to_dict, solve
-from domes.kinematics.examples import triple_rocker
+from domes.motion import load_mechanism, mechanism_to_dict, solve
+from domes.motion.planar.examples import triple_rocker
 from domes.sketch.dimensioned import coupler_curves, dimensioned_svg
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -7,9 +7,9 @@ import networkx as nx
 import pytest
 from svgcheck import SVG, parse
 
-from domes.chains import chains
+from domes.typesynth import chains
 from domes.errors import DomesError
-from domes.labelled import JOINT_TYPES, LabelledChain
+from domes.model import JOINT_TYPES, LabelledChain
 from domes.sketch import mechanism_svg
 
 # Suzuki RM-250X full floater, seed 002 §4-1 (digest 2.2, corrected MTM): links 1..6

@@ -1,0 +1,64 @@
+"""The ``domes`` command line: one subcommand per pipeline stage.
+
+Each stage's subpackage owns its subcommand in a ``cli`` module with a
+``register(subparsers)`` function; this module only lists them and runs
+the chosen one. Errors in the input exit with status 2 and a message on
+stderr; Ctrl-C exits with status 130 and no traceback.
+
+>>> main(["chains", "--links", "6", "--dof", "1", "--count"])
+2
+0
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import signal
+import sys
+
+from domes import __version__
+from domes.errors import DomesError
+
+#: Modules that register a subcommand, in the order of the pipeline.
+SUBCOMMAND_MODULES = (
+    "domes.cli.synthesis",
+    "domes.cli.chains",
+    "domes.cli.regenerate",
+    "domes.cli.kb",
+    "domes.cli.kinematics",
+    "domes.cli.draw",
+    "domes.cli.design",
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every stage's subcommand registered."""
+    parser = argparse.ArgumentParser(
+        prog="domes",
+        description="DOMES-py: creative mechanism design by type synthesis.",
+    )
+    parser.add_argument("--version", action="version", version=f"domes {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    for name in SUBCOMMAND_MODULES:
+        importlib.import_module(name).register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except DomesError as exc:
+        print(f"domes {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"\ndomes {args.command}: interrupted", file=sys.stderr)
+        return 128 + signal.SIGINT
+    except BrokenPipeError:
+        # The reader went away (e.g. `domes chains ... | head`): not an error.
+        sys.stderr.close()
+        return 0

@@ -1,0 +1,168 @@
+"""``domes chains`` (the atlas) and ``domes chain`` (one chain's properties)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from domes.model.chain import Chain
+from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator
+from domes.errors import InputError
+from domes.typesynth.number import chain_joints
+
+#: Atlases from this many links on are very large: ask before building them.
+LARGE_ATLAS_LINKS = 14
+#: Rough growth of an atlas per two more links (measured: 230 -> 6856 one-DOF chains).
+GROWTH_PER_TWO_LINKS = 30
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "chains",
+        help="every non-isomorphic, non-degenerate chain with N links and DOF F",
+        description="The unlabelled graph generator: every non-isomorphic planar chain of simple "
+        "revolute joints with the given links and DOF, with no rigid or over-constrained proper "
+        "sub-chain. DOF 0 gives the basic chains of Table 3-4 (with K).",
+    )
+    size = p.add_mutually_exclusive_group(required=True)
+    size.add_argument("--links", "-n", type=int, help="number of links n")
+    size.add_argument("--loops", "-L", type=int, help="number of independent loops (links = F + 2L + 1)")
+    p.add_argument("--dof", "-F", type=int, required=True, help="degrees of freedom F of the chain (0 for basic chains)")
+    p.add_argument("--include-fractionated", action="store_true", help="keep chains with a cut link")
+    p.add_argument("--count", action="store_true", help="print only the number of chains")
+    p.add_argument("--format", choices=("text", "graph6", "json", "html"), default="text", help="html: an atlas page with a drawing of every chain")
+    p.add_argument(
+        "--isomorphism",
+        choices=ISOMORPHISM_METHODS,
+        default="nauty",
+        help="duplicate removal: nauty (exact, default) or charpoly (the book's test; merges some chains)",
+    )
+    p.add_argument("--yes", "-y", action="store_true", help=f"build atlases of {LARGE_ATLAS_LINKS}+ links without asking")
+    progress = p.add_mutually_exclusive_group()
+    progress.add_argument("--progress", dest="progress", action="store_true", default=None, help="show progress on stderr")
+    progress.add_argument("--no-progress", dest="progress", action="store_false", help="never show progress")
+    p.set_defaults(func=run_chains)
+
+    q = sub.add_parser(
+        "chain",
+        help="structural properties of given chains (graph6), degenerate ones included",
+        description="Properties of one or more chains given as graph6 strings: loops, DOF, link "
+        "assortment, contracted graph, DOF type, automorphisms and link orbits, and for a "
+        "degenerate chain the rigid sub-chain that makes it so.",
+    )
+    q.add_argument("graph6", nargs="+", help="chains in graph6 format ('-' reads them from stdin, one per line)")
+    q.add_argument("--format", choices=("text", "json"), default="text")
+    q.set_defaults(func=run_chain)
+
+
+def _progress_printer(enabled: bool | None):
+    if enabled is None:
+        enabled = sys.stderr.isatty()
+    if not enabled:
+        return None
+    return lambda message: print(f"... {message}", file=sys.stderr, flush=True)
+
+
+def _confirm_large(links: int, dof: int, include_fractionated: bool) -> None:
+    base = links
+    while base > 10:
+        base -= 2
+    base_count = len(ChainGenerator().chains(base, dof, include_fractionated)) if base >= 3 else 1
+    estimate = base_count * GROWTH_PER_TWO_LINKS ** ((links - base) // 2)
+    message = (
+        f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {estimate:.1e} chains "
+        f"(extrapolated from {base_count} chains of {base} links, about x{GROWTH_PER_TWO_LINKS} per two links), "
+        "taking a long time and much memory"
+    )
+    if not sys.stdin.isatty():
+        raise InputError(message + "; pass --yes to build it anyway")
+    print(f"domes chains: {message}.", file=sys.stderr)
+    answer = input("Build it? [y/N] ").strip().lower()
+    if answer not in ("y", "yes"):
+        raise InputError("not built (answer was not 'yes')")
+
+
+def _text_line(index: int, chain: Chain) -> str:
+    assortment = " ".join(f"{d}^{k}" for d, k in chain.assortment.items())
+    joints = " ".join(f"{u}-{v}" for u, v in chain.edges)
+    return f"{index:5d}  [{assortment}]  |Aut|={chain.automorphisms.order:<3d} {chain.dof_type:<12s} {joints}"
+
+
+def run_chains(args: argparse.Namespace) -> int:
+    if args.dof < 0:
+        raise InputError(f"--dof must be >= 0, got {args.dof}")
+    if args.loops is not None:
+        if args.loops < 1:
+            raise InputError(f"--loops must be >= 1, got {args.loops}")
+        links = args.dof + 2 * args.loops + 1
+    else:
+        links = args.links
+    joints = chain_joints(links, args.dof)
+    loops = joints - links + 1
+    if loops < 1:
+        raise InputError(f"{links} links with DOF {args.dof} have {joints} joints and no closed loop; use more links")
+    if links >= LARGE_ATLAS_LINKS and not args.yes:
+        _confirm_large(links, args.dof, args.include_fractionated)
+    generator = ChainGenerator(isomorphism=args.isomorphism, progress=_progress_printer(args.progress))
+    graphs = generator.chains(links, args.dof, args.include_fractionated)
+    atlas = [Chain(n, edges) for n, edges in graphs]
+    if args.count:
+        print(len(atlas))
+        return 0
+    out = sys.stdout
+    if args.format == "html":
+        from domes.sketch.atlas import chain_atlas_html
+
+        out.write(chain_atlas_html(atlas, f"{len(atlas)} chains: {links} links, {joints} joints, DOF {args.dof}"))
+    elif args.format == "graph6":
+        for chain in atlas:
+            out.write(chain.graph6 + "\n")
+    elif args.format == "json":
+        records = []
+        for index, chain in enumerate(atlas, 1):
+            records.append({"id": index, **chain.as_dict()})
+        json.dump(
+            {
+                "links": links,
+                "joints": joints,
+                "loops": loops,
+                "dof": args.dof,
+                "include_fractionated": args.include_fractionated,
+                "isomorphism": args.isomorphism,
+                "count": len(atlas),
+                "chains": records,
+            },
+            out,
+            indent=1,
+        )
+        out.write("\n")
+    else:
+        kind = "with or without a cut link" if args.include_fractionated else "without a cut link"
+        out.write(f"# {len(atlas)} chains: {links} links, {joints} joints, {loops} loops, DOF {args.dof} ({kind})\n")
+        out.write("#   id  [link assortment d^n_d]  |Aut|  DOF type   joints\n")
+        for index, chain in enumerate(atlas, 1):
+            line = _text_line(index, chain)
+            if args.dof == 0:
+                line += f"  K={chain.structural_number}"
+            out.write(line + "\n")
+    return 0
+
+
+def run_chain(args: argparse.Namespace) -> int:
+    texts = [line for g in args.graph6 for line in (sys.stdin.read().split() if g == "-" else [g])]
+    chains = [Chain.from_graph6(t) for t in texts]
+    if args.format == "json":
+        json.dump([c.as_dict() for c in chains], sys.stdout, indent=1)
+        sys.stdout.write("\n")
+        return 0
+    for text, chain in zip(texts, chains):
+        d = chain.as_dict()
+        print(f"{text}: {d['links']} links, {d['joints']} joints, {d['loops']} loops, DOF {d['dof']}")
+        print(f"  assortment {d['assortment']}   DOF type {d['dof_type']}   |Aut| = {d['automorphism_group_order']}")
+        print(f"  link orbits {d['link_orbits']}   cut links {d['cut_links'] or 'none'}")
+        if d["degenerate"]:
+            print(f"  DEGENERATE: links {d['rigid_subchain']} form a rigid or over-constrained sub-chain")
+        if "structural_number" in d:
+            print(f"  structural characteristic number K = {d['structural_number']}")
+    return 0

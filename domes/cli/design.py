@@ -1,0 +1,154 @@
+"""``domes design`` (the question-answer session) and ``domes cases`` (the solved problems)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+import tempfile
+from pathlib import Path
+
+from domes.errors import InputError
+from domes.expert.replay import record, replay, scratch_casebase
+from domes.expert.dialogue import Session, read_answers, write_transcript
+from domes.expert.world import frame_text
+from domes.store.casebase import DB_ENV, KnowledgeBase
+from domes.io.topology import write_atomic
+from domes.io.resources import knowledge_dir
+
+STATE = ".domes-design-session.json"
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    d = sub.add_parser(
+        "design",
+        help="the design expert: a question-answer session that designs, screens and remembers",
+        description="The DOMES design dialogue (Fig. 7-8): recognise the problem as the same as, similar to "
+        "or different from a solved one, ask what is needed, derive links and joints, generate, label and "
+        "screen the candidates, and keep the solved problem in the case base.",
+    )
+    d.add_argument("--answers", metavar="FILE", help="answer from a file ('question: answer' lines, or a transcript .json)")
+    d.add_argument("--record", metavar="FILE", help="write the transcript (answers and result) to FILE (JSON)")
+    d.add_argument("--resume", metavar="STATE", help=f"resume an interrupted session from its state file (default name {STATE})")
+    d.add_argument("--state", metavar="FILE", default=STATE, help=f"where an interrupted session is saved (default {STATE})")
+    d.add_argument("--no-vary", action="store_true", help="do not vary loops and gear pairs when everything is eliminated")
+    d.add_argument("--dry-run", action="store_true", help="work on a scratch copy of the case base: keep nothing")
+    d.add_argument("--db", metavar="URL", help=f"case base (default: ${DB_ENV}, else casebase.db)")
+    d.set_defaults(func=run_design)
+
+    c = sub.add_parser("cases", help="solved problems: list, show, replay, record, remove")
+    c.add_argument("--db", metavar="URL", help=f"case base (default: ${DB_ENV}, else casebase.db)")
+    cs = c.add_subparsers(dest="action", metavar="ACTION")
+    cs.required = True
+    cs.add_parser("list", help="the solved problems").set_defaults(func=run_list)
+    show = cs.add_parser("show", help="one solved problem and its result")
+    show.add_argument("id")
+    show.add_argument("--format", choices=("text", "json"), default="text")
+    show.set_defaults(func=run_show)
+    rp = cs.add_parser("replay", help="re-run recorded transcripts against the current knowledge base; show differences")
+    rp.add_argument("cases", nargs="*", metavar="CASE", help="case names (knowledge/cases/NAME.json) or transcript files")
+    rp.add_argument("--all", action="store_true", help="every shipped case")
+    rp.add_argument("--verbose", "-v", action="store_true", help="show the dialogue")
+    rp.set_defaults(func=run_replay)
+    rc = cs.add_parser("record", help="run an answers file as a new shipped case (knowledge/cases/NAME.json)")
+    rc.add_argument("answers", metavar="ANSWERS")
+    rc.add_argument("--name", required=True, help="file name of the case (knowledge/cases/NAME.json)")
+    rc.set_defaults(func=run_record)
+    rm = cs.add_parser("remove", help="remove a solved problem from the case base")
+    rm.add_argument("id")
+    rm.set_defaults(func=run_remove)
+
+
+def run_design(args: argparse.Namespace) -> int:
+    answers, interactive = [], True
+    if args.answers:
+        answers, interactive = read_answers(args.answers), False
+    if args.resume:
+        state = Path(args.resume)
+        if not state.is_file():
+            raise InputError(f"no saved session at {state}")
+        answers = [(e["question"], e["answer"]) for e in json.loads(state.read_text(encoding="utf-8"))["exchanges"]]
+        print(f"Resuming the session saved in {state} ({len(answers)} answers).")
+    with tempfile.TemporaryDirectory(prefix="domes-dry-run-") as tmp:
+        url = scratch_casebase(args.db, None, Path(tmp)) if args.dry_run else args.db
+        if args.dry_run:
+            print("Dry run: a scratch copy of the case base; nothing is kept.")
+        status = _design(args, Session(url, answers, interactive=interactive or bool(args.resume), vary=not args.no_vary))
+        if args.dry_run:
+            print("Dry run: the case base is unchanged.")
+        return status
+
+
+def _design(args: argparse.Namespace, session: Session) -> int:
+    try:
+        outcome = session.run()
+    except (KeyboardInterrupt, EOFError):
+        write_atomic(Path(args.state), json.dumps({"exchanges": session.exchanges}, indent=1) + "\n")
+        print(f"\ndomes design: interrupted; {len(session.exchanges)} answers saved in {args.state} "
+              f"(resume with: domes design --resume {args.state})", file=sys.stderr)
+        return 128 + signal.SIGINT
+    if args.record:
+        write_transcript(args.record, outcome)
+        print(f"Transcript written to {args.record}.")
+    if args.resume and Path(args.resume).name == STATE:
+        Path(args.resume).unlink(missing_ok=True)
+    return 0
+
+
+def run_list(args: argparse.Namespace) -> int:
+    with KnowledgeBase(args.db) as kb:
+        problems = kb.problems()
+    print(f"  {'id':<34s} {'class':<30s} DOF  L  links joints sliders gears  kept")
+    for p in problems:
+        print(f"  {p.id:<34s} {p.problem_class:<30s} {p.dof!s:>3s} {p.loops!s:>2s} {p.links!s:>6s} {p.joints!s:>6s} "
+              f"{p.slider_pairs or 0:>7d} {p.gear_pairs or 0:>5d} {len(p.results):>5d}")
+    return 0
+
+
+def run_show(args: argparse.Namespace) -> int:
+    with KnowledgeBase(args.db) as kb:
+        frame = kb.get_problem(args.id)
+    if args.format == "json":
+        print(json.dumps(frame.to_mapping(), indent=1, ensure_ascii=False))
+    else:
+        print(frame_text(frame))
+    return 0
+
+
+def run_replay(args: argparse.Namespace) -> int:
+    names = list(args.cases)
+    if args.all:
+        names += sorted(p.stem for p in (knowledge_dir() / "cases").glob("*.json"))
+    if not names:
+        raise InputError("name the cases to replay, or give --all")
+    failed = 0
+    for name in names:
+        result = replay(name, args.db, say=print if args.verbose else (lambda text: None))
+        if result.differences:
+            failed += 1
+            print(f"{result.name}: DIFFERENT")
+            for line in result.differences:
+                print(f"  {line}")
+        else:
+            print(f"{result.name}: same result ({result.outcome.relation}, {len(result.outcome.frame.results) if result.outcome.frame else 0} candidates)")
+    return 1 if failed else 0
+
+
+def run_record(args: argparse.Namespace) -> int:
+    answers = read_answers(args.answers)
+    target = knowledge_dir() / "cases" / f"{args.name}.json"
+    previous = json.loads(target.read_text(encoding="utf-8"))["frame"]["id"] if target.is_file() else None
+    outcome = record(answers, previous, args.db, say=print)
+    if outcome.frame is None:
+        raise InputError("the session ended without a result to keep")
+    write_transcript(target, outcome)
+    print(f"Case written to {target}; rebuild the case base with `domes kb build`.")
+    return 0
+
+
+def run_remove(args: argparse.Namespace) -> int:
+    with KnowledgeBase(args.db) as kb:
+        kb.remove_problem(args.id)
+    print(f"removed {args.id}")
+    return 0

@@ -1,0 +1,133 @@
+"""``domes kinematics``: positions, velocities and accelerations of a mechanism file, with dead points.
+
+>>> main(["kinematics", "examples/mechanisms/four-bar.json", "--sweep", "0:90:45", "--outputs", "angle:rocker"])  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import sys
+
+from domes.errors import InputError
+from domes.model.mechanism import load_mechanism
+from domes.motion.planar.query import PRESETS, Kinematics, accuracy
+from domes.motion.planar.sweep import run_sweep
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "kinematics",
+        help="position, velocity and acceleration of a dimensioned mechanism (JSON file), with dead points",
+        description="The kinematics backend: solves only the Assur groups the requested outputs depend on, "
+        "sweeps the input with assembly-mode continuity, and reports every step's loop-closure residual and "
+        "condition number and every dead (limit) or singular point. Angles in degrees unless --angles rad.",
+    )
+    p.add_argument("file", help="mechanism file (JSON; see docs/kinematics.md)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--sweep", metavar="START:STOP[:STEP]",
+                       help="sweep the input (degrees for an R input, length for a P input); STEP defaults to the "
+                       "accuracy preset's resolution")
+    where.add_argument("--at", type=float, metavar="VALUE", help="one input value (default: the drawn pose)")
+    p.add_argument("--outputs", nargs="+", metavar="OUT",
+                   help="angle:LINK, slide:JOINT, point:NAME (default: every link angle, slide and coupler point)")
+    p.add_argument("--order", type=int, choices=(0, 1, 2), default=0, help="derivative order (0 positions, 1 velocities, 2 accelerations)")
+    p.add_argument("--format", choices=("text", "csv", "json"), default="text")
+    p.add_argument("--accuracy", choices=sorted(PRESETS), default="default", help="accuracy preset (default: default)")
+    p.add_argument("--tol", type=float, help="override the preset's Newton tolerance")
+    p.add_argument("--method", choices=("assur", "newton"), default="assur",
+                   help="assur: closed-form dyads and per-group Newton (default); newton: the whole loop-closure model")
+    p.add_argument("--input", dest="joint", metavar="JOINT", help="driven joint to sweep (default: the first input)")
+    p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of angles in input and output")
+    p.set_defaults(func=run)
+
+
+def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
+    parts = text.split(":")
+    if len(parts) not in (2, 3):
+        raise InputError(f"--sweep: expected START:STOP or START:STOP:STEP, got {text!r}")
+    try:
+        nums = [float(x) for x in parts]
+    except ValueError:
+        raise InputError(f"--sweep: {text!r} has a part that is not a number") from None
+    if len(nums) == 3 and nums[2] <= 0:
+        raise InputError(f"--sweep: STEP must be > 0, got {parts[2]}")
+    return scale(nums[0]), scale(nums[1]), scale(nums[2]) if len(nums) == 3 else None
+
+
+def run(args: argparse.Namespace) -> int:
+    mech = load_mechanism(args.file)
+    acc = accuracy(args.accuracy, tol=args.tol)
+    kin = Kinematics(mech, args.outputs, args.order, args.method, acc)
+    joint = args.joint or mech.inputs[0].joint
+    angular = mech.joint(joint).kind == "R"
+    deg = args.angles == "deg"
+    to_in = math.radians if angular and deg else float
+    from_in = math.degrees if angular and deg else float
+    if args.sweep:
+        start, stop, step = parse_sweep(args.sweep, to_in)
+    else:
+        q = kin.drawn_inputs()[joint] if joint in kin.drawn_inputs() else None
+        if q is None:
+            raise InputError(f"--input: {joint!r} is not a driven joint of {mech.name}")
+        start = stop = to_in(args.at) if args.at is not None else q
+        step = 1.0
+    sw = run_sweep(kin, start, stop, step, joint)
+    angle_cols = {c for c in sw.columns if c.startswith("angle:")}
+
+    def shown(col, value):
+        base = col.rstrip("'")
+        return math.degrees(value) if deg and base in angle_cols else value
+
+    rows = []
+    for st in sw.steps:
+        rows.append({"input": from_in(st.inputs[joint]), **{c: shown(c, v) for c, v in st.values.items()},
+                     "residual": st.residual, "condition": st.condition})
+    dead = [{"input": from_in(d.input), "within": from_in(d.within) if angular else d.within, "kind": d.kind,
+             "group": d.group, "joints": list(d.joints), "message": d.message} for d in sw.dead_points]
+    out = sys.stdout
+    if args.format == "json":
+        doc = {"mechanism": mech.name, "file": args.file, "input": joint, "angle_unit": args.angles,
+               "order": args.order, "method": args.method,
+               "accuracy": {"preset": acc.name, "tol": acc.tol, "step": acc.step, "locate": acc.locate},
+               "groups": [{"kind": g.kind, "links": list(g.links), "joints": list(g.joints), "equations": g.equations}
+                          for g in kin.groups],
+               "groups_solved": sw.groups_solved, "groups_total": sw.groups_total, "equations": sw.equations,
+               "status": sw.status, "reachable": [from_in(x) for x in sw.reachable],
+               "max_residual": sw.max_residual, "dead_points": dead, "steps": rows}
+        json.dump(_finite(doc), out, indent=1)
+        out.write("\n")
+    elif args.format == "csv":
+        writer = csv.writer(out)
+        header = ["input", *sw.columns, "residual", "condition"]
+        writer.writerow(header)
+        for r in rows:
+            writer.writerow([repr(r[h]) for h in header])
+        for d in dead:
+            print(f"# {d['kind']} at input {d['input']:.12g}: {d['message']}", file=sys.stderr)
+    else:
+        unit = ("deg" if deg else "rad") if angular else "length"
+        out.write(f"# {mech.name}: {len(kin.groups)} of {len(kin.structure.groups)} groups, {kin.equations} loop "
+                  f"equations ({', '.join(g.kind for g in kin.groups)}); accuracy {acc.name}; method {args.method}\n")
+        header = ["input"] + list(sw.columns) + ["residual", "condition"]
+        out.write("  ".join(f"{h:>16s}" for h in header) + "\n")
+        for r in rows:
+            out.write("  ".join(f"{r[h]:16.10g}" for h in header) + "\n")
+        out.write(f"# status: {sw.status}; input {joint} ({unit}) reached {from_in(sw.reachable[0]):.10g} .. "
+                  f"{from_in(sw.reachable[1]):.10g}; max residual {sw.max_residual:.2g}\n")
+        for d in dead:
+            out.write(f"# {d['kind']} at input {d['input']:.12g} (± {d['within']:.2g}): {d['message']}\n")
+    return 0
+
+
+def _finite(obj):
+    """JSON without NaN/Infinity: non-finite numbers become null (e.g. derivatives at a singular point)."""
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_finite(v) for v in obj]
+    return obj

@@ -1,0 +1,145 @@
+"""``domes regenerate SCENE`` and ``domes generalize FILE``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from domes.model.chain import Chain
+from domes.typesynth.atlas import atlas
+from domes.typesynth.generalize import generalize
+from domes.io.topology import Mechanism
+from domes.typesynth.scene import load_scene
+from domes.typesynth.regenerate import Regeneration, regenerate
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "regenerate",
+        help="regenerate chains into mechanisms under a design scene's rules",
+        description="Yan's chain regeneration: assign the scene's roles stage by stage on every "
+        "chain, remove duplicates exactly, screen, particularize, and flag existing designs. "
+        "SCENE is a scene name (knowledge/scenes/NAME.toml) or a scene file.",
+    )
+    p.add_argument("scene", metavar="SCENE", help="scene name or file")
+    p.add_argument("--format", choices=("text", "json", "html"), default="text",
+                   help="text (default), json, or an HTML atlas page with a sketch of every candidate")
+    p.add_argument("--new-only", action="store_true", help="leave out candidates equal to an existing design")
+    p.set_defaults(func=run_regenerate)
+
+    g = sub.add_parser(
+        "generalize",
+        help="the generalized chain of a mechanism file (Table 3-5)",
+        description="Generalize a mechanism (TOML file, see docs/regeneration.md) into its chain of "
+        "revolute joints with the marks of Table 3-5, and find the chain in the atlas.",
+    )
+    g.add_argument("file", metavar="FILE", help="mechanism file (.toml)")
+    g.add_argument("--format", choices=("text", "json", "mtm", "type"), default="text",
+                   help="text (default), json, or the mechanism's own MTM / TYPE matrix")
+    g.set_defaults(func=run_generalize)
+
+
+def _roles_text(candidate) -> str:
+    m = candidate.mechanism
+    by_role: dict[str, list[int]] = {}
+    for v, roles in enumerate(m.roles):
+        for r in roles:
+            by_role.setdefault(r, []).append(v)
+    return "  ".join(f"{r}={','.join(map(str, vs))}" for r, vs in sorted(by_role.items(), key=lambda x: x[1]))
+
+
+def print_regeneration(result: Regeneration, new_only: bool, out=sys.stdout) -> None:
+    scene = result.scene
+    out.write(f"{scene.title}  [{scene.name}]\n")
+    if scene.source:
+        out.write(f"source: {scene.source}\n")
+    out.write(f"chains: {scene.links} links, DOF {scene.dof}\n\n")
+    out.write(f"  {'stage':<34s} {'count':>6s} {'book':>6s} {'raw S_i':>8s} {'n_i':>6s}\n")
+    for s, n in zip(result.stages, result.divergence_numbers()):
+        book = "-" if s.book is None else str(s.book)
+        out.write(f"  {s.name:<34s} {s.count:>6d} {book:>6s} {s.raw:>8d} {n:>6.2f}\n")
+    if scene.book_note:
+        out.write(f"  book: {scene.book_note}\n")
+    existing = [c for c in result.candidates if c.existing]
+    chains = atlas(scene.links, scene.dof, scene.include_fractionated)
+    names = {i: f" ({Chain(n, e).common_name})" for i, (n, e) in enumerate(chains, 1) if Chain(n, e).common_name}
+    per_chain = {}
+    for c in result.candidates:
+        per_chain[c.chain_index] = per_chain.get(c.chain_index, 0) + 1
+    split = ", ".join(f"chain {i}{names.get(i, '')}: {k}" for i, k in sorted(per_chain.items()))
+    out.write(f"\n{len(result.candidates)} candidates ({split}), {len(existing)} existing, {len(result.candidates) - len(existing)} new\n")
+    for c in result.candidates:
+        if new_only and c.existing:
+            continue
+        m = c.mechanism
+        special = " ".join(f"{u}-{v}:{t}" for (u, v), t in zip(m.edges, m.joint_types) if t != "R")
+        flag = f"  EXISTING ({'; '.join(c.existing)})" if c.existing else ""
+        joints = " ".join(f"{u}-{v}" for u, v in m.edges)
+        out.write(f"  {c.id:3d}  chain {c.chain_index}{names.get(c.chain_index, '')}  {_roles_text(c)}  [{special}]  joints {joints}{flag}\n")
+
+
+def run_regenerate(args: argparse.Namespace) -> int:
+    scene = load_scene(args.scene)
+    progress = (lambda m: print(f"... {m}", file=sys.stderr)) if sys.stderr.isatty() else None
+    result = regenerate(scene, progress)
+    if args.format == "json":
+        json.dump(result.as_dict(new_only=args.new_only), sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    elif args.format == "html":
+        from domes.sketch.atlas import regeneration_html  # the drawing stage, loaded only when asked
+
+        sys.stdout.write(regeneration_html(result, new_only=args.new_only))
+    else:
+        print_regeneration(result, args.new_only)
+    return 0
+
+
+def run_generalize(args: argparse.Namespace) -> int:
+    mechanism = Mechanism.load(args.file)
+    if args.format == "mtm":
+        print(mechanism.to_mtm())
+        return 0
+    if args.format == "type":
+        print(mechanism.type_matrix())
+        return 0
+    g = generalize(mechanism)
+    chain = g.unlabelled
+    position = None
+    if chain.dof >= 0 and chain.loops >= 1 and chain.is_connected and not chain.is_degenerate:
+        listed = atlas(chain.n, chain.dof, include_fractionated=True)
+        position = next((i for i, (n, e) in enumerate(listed, 1) if Chain(n, e) == chain), None)
+    record = {
+        "mechanism": mechanism.name,
+        "links": chain.n,
+        "joints": chain.joints,
+        "dof": chain.dof,
+        "loops": chain.loops,
+        "link_names": list(g.link_names),
+        "edges": [list(e) for e in g.chain.edges],
+        "marks": g.marks,
+        "chain": chain.common_name,
+        "atlas_position": position,
+        "degenerate": chain.is_degenerate,
+        "graph6": chain.graph6,
+    }
+    if args.format == "json":
+        json.dump(record, sys.stdout, indent=1)
+        sys.stdout.write("\n")
+        return 0
+    print(f"{mechanism.name}: generalized chain of {chain.n} links, {chain.joints} joints, DOF {chain.dof}, {chain.loops} loops")
+    if record["chain"]:
+        print(f"  the {record['chain']} chain")
+    if position:
+        kind = "with or without cut links" if chain.cut_links else "without cut links"
+        print(f"  chain #{position} of `domes chains --links {chain.n} --dof {chain.dof}{' --include-fractionated' if chain.cut_links else ''}` ({kind})")
+    if chain.is_degenerate:
+        print(f"  degenerate: links {[g.link_names[v] for v in chain.rigid_subchain]} form a rigid sub-chain")
+    for (u, v), t in zip(g.chain.edges, g.chain.joint_types):
+        mark = f"  mark {t}" if t != "R" else ""
+        print(f"  joint {g.link_names[u]}-{g.link_names[v]}{mark}")
+    for v, roles in enumerate(g.chain.roles):
+        if roles:
+            print(f"  link {g.link_names[v]}: {', '.join(sorted(roles))}")
+    print(f"  graph6 {chain.graph6}")
+    return 0

@@ -1,0 +1,40 @@
+"""``domes synthesis``: links, joints and link assortments of a problem."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from domes.typesynth.number import link_assortments, number_synthesis
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "synthesis",
+        help="number synthesis: links and joints from DOF, loops, λ and gear pairs",
+        description="Number synthesis (DOMES §7-2): i = W + (λ−1)L − j_G + 1, j = W + λL − j_G, "
+        "and the link assortments of Table 3-1.",
+    )
+    p.add_argument("--dof", "-W", type=int, required=True, help="degrees of freedom W")
+    p.add_argument("--loops", "-L", type=int, required=True, help="independent loops L_ind")
+    p.add_argument("--space", type=int, default=3, choices=(3, 6), help="λ: 3 planar (default), 6 spatial")
+    p.add_argument("--gear-pairs", type=int, default=0, help="gear pairs j_G (default 0)")
+    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    result = number_synthesis(args.dof, args.loops, args.space, args.gear_pairs)
+    assortments = link_assortments(result.links, result.joints) if result.loops >= 1 else []
+    if args.format == "json":
+        record = dict(vars(result))
+        record["assortments"] = [{str(d): k for d, k in a.counts.items()} for a in assortments]
+        print(json.dumps(record, indent=2))
+        return 0
+    print(f"W={result.dof}  L={result.loops}  λ={result.space}  j_G={result.gear_pairs}")
+    print(f"links i = {result.links}   joints j = {result.joints}")
+    if assortments:
+        print("link assortments (n_2, n_3, ...):")
+        for a in assortments:
+            print("  " + "  ".join(f"n_{d}={k}" for d, k in a.counts.items()))
+    return 0

@@ -1,0 +1,159 @@
+"""The design run: from a problem frame to screened candidates (DOMES §7-2, Fig. 7-8).
+
+1. number synthesis: links and joints from W, L, λ and j_G (the MECXPRT
+   structure rule, e.g. the pump of §7-1: W = 1, three loops, R and P joints
+   only -> 8 links, 10 joints);
+2. the unlabelled chains of that size from the atlas;
+3. labelled graphs: the scene's stages give the links their roles (Yan's
+   regeneration) when the problem names a scene; otherwise the sliders and
+   gear pairs are placed on the joints in every non-isomorphic way (DOMES's
+   labelled-graph generator);
+4. multi-level screening by the relevant criteria, every rejection with its
+   criterion and reason;
+5. if every candidate is eliminated, the independent loops and then the gear
+   pairs are varied and the run repeated, saying so (§7-2 step 3); if every
+   variation fails too, the result (with its rejections) is that of the
+   problem as stated.
+
+Gear pairs: the chains are the revolute atlas of DOF ``W − j_G`` with
+``j_G`` joints typed ``G``; a gear pair removes one DOF where a revolute
+removes two, so these chains stay non-degenerate. Chains whose only rigid
+sub-chains contain gear pairs (some epicyclic trains) are not generated.
+
+>>> from domes.knowledge.problems import ProblemFrame
+>>> run = design(ProblemFrame("p", "four-bar slider", dof=1, loops=1, gear_pairs=0, slider_pairs=1), [])
+>>> run.links, run.joints, len(run.kept)
+(4, 4, 1)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from domes.typesynth.atlas import atlas
+from domes.errors import DomesError, InputError
+from domes.language.explain import explain
+from domes.knowledge.problems import ProblemFrame
+from domes.knowledge.relevance import RelevanceVector
+from domes.knowledge.screening import screen
+from domes.model.labelled import LabelledChain
+from domes.typesynth.labelling import label_joints
+from domes.typesynth.scene import load_scene
+from domes.typesynth.regenerate import EmptyStage, regenerate
+from domes.typesynth.number import number_synthesis
+
+#: How far the design varies the problem when every candidate is eliminated: (extra loops, extra gear pairs).
+VARIATIONS = ((1, 0), (2, 0), (0, 1), (1, 1))
+#: Variations are not tried beyond this many links (the labelled atlases grow about 30-fold per loop).
+MAX_VARIED_LINKS = 10
+
+
+@dataclass(frozen=True)
+class DesignRun:
+    """The outcome of one design: candidates kept, rejected (with criterion and reason), and what was tried."""
+
+    problem: ProblemFrame  # as run (links and joints filled in; loops and gear pairs as finally used)
+    links: int
+    joints: int
+    candidates: tuple[dict, ...]  # every candidate generated, as plain data with an "id"
+    kept: tuple[dict, ...]
+    rejected: tuple[dict, ...]  # {"candidate", "criterion", "level", "reason"}
+    applied: tuple[str, ...]
+    emptied_by: str | None
+    notes: tuple[str, ...]
+
+
+def candidates_for(problem: ProblemFrame, links: int, joints: int) -> list[tuple[LabelledChain, dict]]:
+    """The labelled candidates of a problem and, for each, plain data about its origin."""
+    chain_dof = 3 * (links - 1) - 2 * joints
+    if problem.scene:
+        scene = load_scene(problem.scene)
+        if (scene.links, scene.dof) != (links, chain_dof):
+            scene = dataclasses.replace(
+                scene, links=links, dof=chain_dof, existing=tuple(m for m in scene.existing if m.n == links)
+            )
+        try:
+            result = regenerate(scene)
+        except EmptyStage:
+            return []
+        return [(c.mechanism, {"chain": c.chain_index, "existing": list(c.existing)}) for c in result.candidates]
+    if chain_dof < 0:
+        return []
+    chains = [LabelledChain.build(n, edges) for n, edges in atlas(links, chain_dof)]
+    counts = {t: k for t, k in (("P", problem.slider_pairs or 0), ("G", problem.gear_pairs or 0)) if k}
+    return [(labelled, {}) for labelled in label_joints(chains, counts)]
+
+
+def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None) -> DesignRun:
+    numbers = number_synthesis(problem.dof, problem.loops, problem.space, problem.gear_pairs or 0)
+    if problem.space != 3:
+        raise InputError("the chain atlas is planar: spatial (λ = 6) problems get their numbers but no chains")
+    generated = candidates_for(problem, numbers.links, numbers.joints)
+    records = [{"id": i, **extra, **chain.to_dict()} for i, (chain, extra) in enumerate(generated, 1)]
+    result = screen([chain for chain, _ in generated], criteria, problem, relevance=relevance)
+    by_id = {c.id: c for c in criteria}
+    rejected = tuple(
+        {
+            "candidate": r.index + 1,
+            "criterion": r.criterion,
+            "level": r.level,
+            "reason": explain(by_id[r.criterion].tree, generated[r.index][0]) or "",
+        }
+        for r in result.rejections
+    )
+    solved = dataclasses.replace(problem, links=numbers.links, joints=numbers.joints)
+    return DesignRun(
+        solved, numbers.links, numbers.joints, tuple(records), tuple(records[i] for i in result.kept_indices),
+        rejected, result.applied, result.emptied_by, (),
+    )
+
+
+def design(
+    problem: ProblemFrame,
+    criteria,
+    relevance: RelevanceVector | None = None,
+    vary: bool = True,
+    max_links: int = MAX_VARIED_LINKS,
+) -> DesignRun:
+    """Generate, label and screen the candidates of ``problem`` (see the module doc).
+
+    ``criteria`` are the knowledge base's frames; ``relevance`` the problem's
+    vector (None: each criterion's own relevance condition decides). When
+    everything is eliminated and ``vary`` is set, the variations of
+    :data:`VARIATIONS` are tried, up to ``max_links`` links.
+    """
+    for key in ("dof", "loops"):
+        if getattr(problem, key) is None:
+            raise InputError(f"the problem does not state its {key}: a design needs DOF and independent loops")
+    first = run = _attempt(problem, criteria, relevance)
+    notes = []
+    if run.kept or not vary:
+        return run
+    for extra_loops, extra_gears in VARIATIONS:
+        why = (
+            f"criterion {run.emptied_by!r} eliminated the last candidate" if run.emptied_by
+            else "no candidate could be generated"
+        )
+        varied = dataclasses.replace(
+            problem, loops=problem.loops + extra_loops, gear_pairs=(problem.gear_pairs or 0) + extra_gears
+        )
+        size = number_synthesis(varied.dof, varied.loops, varied.space, varied.gear_pairs).links
+        if size > max_links:
+            notes.append(f"{varied.loops} loops and {varied.gear_pairs} gear pairs not tried: {size} links is beyond {max_links}")
+            continue
+        notes.append(
+            f"with {run.problem.loops} loops and {run.problem.gear_pairs or 0} gear pairs ({run.links} links, "
+            f"{run.joints} joints) {why}; trying {varied.loops} loops and {varied.gear_pairs} gear pairs"
+        )
+        try:
+            run = _attempt(varied, criteria, relevance)
+        except DomesError as exc:
+            notes.append(f"{varied.loops} loops and {varied.gear_pairs} gear pairs: {exc}")
+            continue
+        if run.kept:
+            break
+    else:
+        notes.append("every variation was eliminated too; the result is that of the problem as stated")
+        run = first
+    return dataclasses.replace(run, notes=tuple(notes))

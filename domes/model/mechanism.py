@@ -1,0 +1,425 @@
+"""The dimensioned planar mechanism: links, R and P joints, ground, inputs, points.
+
+Coordinates describe the mechanism in one assembled configuration, the
+*drawn pose*: every joint at its place, every slide line through its joint.
+The drawn pose fixes the link shapes (all distances between a link's joints)
+and the assembly mode (branch) that sweeps continue from.
+
+An R joint is a pin at ``at``. A P joint joins a *guide* (``links[0]``,
+which carries the slide line) and a *slider* (``links[1]``); the line
+passes through ``at`` with direction ``direction``; the slide coordinate
+``s`` is the distance along the line from ``origin`` (a point of the guide
+on the line, ``at`` by default) to the slider's point that is at ``at`` in
+the drawn pose. An R joint of ``m > 2`` links (a compound hinge) is split
+into ``m − 1`` joints at the same point (seed 000, §2.11) named ``J``,
+``J.1``, ``J.2``, ...
+
+The angle of a link is the direction of its reference line: from its first
+joint to its second joint (in the order of :attr:`Mechanism.joints`), unless
+given in ``link_angles``. An input is a joint whose joint variable is
+prescribed: for an R joint between the ground and link ``k`` the absolute
+angle of ``k``; for an R joint between two moving links ``a, b`` the angle of
+``b`` minus the angle of ``a``; for a P joint its slide coordinate ``s``.
+
+>>> m = Mechanism.build(
+...     name="four-bar", links=["frame", "crank", "coupler", "rocker"], ground="frame",
+...     joints=[Joint("A", "R", ("frame", "crank"), (0.0, 0.0)),
+...             Joint("B", "R", ("crank", "coupler"), (1.0, 0.0)),
+...             Joint("C", "R", ("coupler", "rocker"), (3.5, 6 ** 0.5)),
+...             Joint("D", "R", ("rocker", "frame"), (3.0, 0.0))],
+...     inputs=[Input("A")])
+>>> m.dof, m.loops, m.size
+(1, 1, 4.272001872658765)
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from typing import Iterable, Mapping
+
+from domes.errors import InputError
+
+Point2 = tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A revolute (``"R"``) or prismatic (``"P"``) joint of two links."""
+
+    name: str
+    kind: str
+    links: tuple[str, str]
+    at: Point2
+    direction: float = 0.0
+    origin: Point2 | None = None
+
+    @property
+    def slide_origin(self) -> Point2:
+        return self.at if self.origin is None else self.origin
+
+    @property
+    def s0(self) -> float:
+        """The slide coordinate in the drawn pose."""
+        ox, oy = self.slide_origin
+        return (self.at[0] - ox) * math.cos(self.direction) + (self.at[1] - oy) * math.sin(self.direction)
+
+
+@dataclass(frozen=True)
+class Input:
+    """A driven joint with its speed and acceleration (per unit time)."""
+
+    joint: str
+    speed: float = 1.0
+    acceleration: float = 0.0
+
+
+@dataclass(frozen=True)
+class CouplerPoint:
+    """A named point carried by a link (drawn-pose coordinates)."""
+
+    name: str
+    link: str
+    at: Point2
+
+
+@dataclass(frozen=True)
+class Polygon:
+    """A polygon carried by a link (drawn-pose vertices), for interference checks."""
+
+    name: str
+    link: str
+    vertices: tuple[Point2, ...]
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A dimensioned planar mechanism in its drawn pose (immutable). Build with :meth:`build`."""
+
+    name: str
+    links: tuple[str, ...]
+    ground: str
+    joints: tuple[Joint, ...]
+    inputs: tuple[Input, ...]
+    points: tuple[CouplerPoint, ...] = ()
+    polygons: tuple[Polygon, ...] = ()
+    link_angles: tuple[tuple[str, float], ...] = ()
+    source: str = field(default="", compare=False)
+
+    @classmethod
+    def build(cls, name, links, ground, joints, inputs, points=(), polygons=(), link_angles=None, source=""):
+        """Validate, split compound hinges, and freeze."""
+        where = f"{source}: " if source else ""
+        links = tuple(str(x) for x in links)
+        if len(set(links)) != len(links):
+            raise InputError(f"{where}links: duplicate link names in {list(links)}")
+        if ground not in links:
+            raise InputError(f"{where}ground: {ground!r} is not one of the links {list(links)}")
+        split: list[Joint] = []
+        names: set[str] = set()
+        for j in joints:
+            where_j = f"{where}joint {j.name!r}"
+            if j.name in names:
+                raise InputError(f"{where_j}: duplicate joint name")
+            names.add(j.name)
+            if j.kind not in ("R", "P"):
+                raise InputError(f"{where_j}: type {j.kind!r} is not supported; use 'R' or 'P' "
+                                 "(model a cylinder as two links joined by a P joint)")
+            for x in j.links:
+                if x not in links:
+                    raise InputError(f"{where_j}: link {x!r} is not one of the links {list(links)}")
+            if len(set(j.links)) != len(j.links) or len(j.links) < 2:
+                raise InputError(f"{where_j}: needs two or more different links, got {list(j.links)}")
+            if not all(math.isfinite(v) for v in j.at) or len(j.at) != 2:
+                raise InputError(f"{where_j}: 'at' must be two finite numbers, got {j.at}")
+            if j.kind == "P":
+                if len(j.links) != 2:
+                    raise InputError(f"{where_j}: a P joint joins exactly two links (guide, slider)")
+                if j.origin is not None:
+                    ox, oy = j.origin
+                    off = -(j.at[0] - ox) * math.sin(j.direction) + (j.at[1] - oy) * math.cos(j.direction)
+                    scale = max(1.0, abs(j.at[0] - ox) + abs(j.at[1] - oy))
+                    if abs(off) > 1e-9 * scale:
+                        raise InputError(f"{where_j}: origin {j.origin} is {off:.3g} off the slide line "
+                                         "through 'at' with the given direction")
+                split.append(j)
+            elif len(j.links) == 2:
+                split.append(j)
+            else:
+                first = j.links[0]
+                for k, other in enumerate(j.links[1:]):
+                    split.append(Joint(j.name if k == 0 else f"{j.name}.{k}", "R", (first, other), j.at))
+        pairs: dict[frozenset, str] = {}
+        for j in split:
+            key = frozenset(j.links)
+            if key in pairs:
+                raise InputError(f"{where}joint {j.name!r}: links {sorted(key)} are already joined by joint {pairs[key]!r}")
+            pairs[key] = j.name
+        by_name = {j.name: j for j in split}
+        inputs = tuple(inputs)
+        if len({i.joint for i in inputs}) != len(inputs):
+            raise InputError(f"{where}inputs: a joint is driven twice")
+        for i in inputs:
+            if i.joint not in by_name:
+                raise InputError(f"{where}inputs: joint {i.joint!r} is not one of the joints {sorted(by_name)}")
+        for p in tuple(points) + tuple(polygons):
+            if p.link not in links:
+                raise InputError(f"{where}{type(p).__name__.lower()} {p.name!r}: link {p.link!r} is not one of the links")
+        point_names = [p.name for p in points]
+        clash = (set(point_names) & set(by_name)) | {n for n in point_names if point_names.count(n) > 1}
+        if clash:
+            raise InputError(f"{where}points: names {sorted(clash)} are used twice (points and joints share one namespace)")
+        for poly in polygons:
+            if len(poly.vertices) < 3:
+                raise InputError(f"{where}polygon {poly.name!r}: needs three or more vertices")
+        angles = dict(link_angles or {})
+        for x in angles:
+            if x not in links:
+                raise InputError(f"{where}link_angles: {x!r} is not one of the links")
+        mech = cls(name, links, ground, tuple(split), inputs, tuple(points), tuple(polygons),
+                   tuple(sorted(angles.items())), source)
+        dof = mech.dof
+        if dof != len(inputs):
+            raise InputError(f"{where}the mechanism has {dof} degree(s) of freedom (3(n−1) − 2j = 3·{len(links) - 1} − 2·{len(split)}) "
+                             f"but {len(inputs)} input(s); give one driven joint per degree of freedom")
+        return mech
+
+    # -- views -----------------------------------------------------------------
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom by Grübler's count ``3(n − 1) − 2j`` (lower pairs)."""
+        return 3 * (len(self.links) - 1) - 2 * len(self.joints)
+
+    @property
+    def loops(self) -> int:
+        """Independent loops ``L = j − n + 1``."""
+        return len(self.joints) - len(self.links) + 1
+
+    def joint(self, name: str) -> Joint:
+        for j in self.joints:
+            if j.name == name:
+                return j
+        raise InputError(f"{self.name}: no joint {name!r}; joints are {[j.name for j in self.joints]}")
+
+    def joints_of(self, link: str) -> list[Joint]:
+        return [j for j in self.joints if link in j.links]
+
+    def point(self, name: str) -> tuple[str, Point2]:
+        """``(link, drawn position)`` of a coupler point or joint (the joint on its first link)."""
+        for p in self.points:
+            if p.name == name:
+                return p.link, p.at
+        for j in self.joints:
+            if j.name == name:
+                return j.links[-1] if j.kind == "P" else j.links[0], j.at
+        raise InputError(f"{self.name}: no point or joint {name!r}")
+
+    def reference_angle(self, link: str) -> float:
+        """The angle of ``link``'s reference line in the drawn pose (rad)."""
+        given = dict(self.link_angles)
+        if link in given:
+            return given[link]
+        pts = [j.at for j in self.joints_of(link)]
+        for p in pts[1:]:
+            dx, dy = p[0] - pts[0][0], p[1] - pts[0][1]
+            if dx or dy:
+                return math.atan2(dy, dx)
+        return 0.0
+
+    @property
+    def size(self) -> float:
+        """The largest distance between two joints or points: the length scale of tolerances."""
+        pts = [j.at for j in self.joints] + [p.at for p in self.points]
+        best = 0.0
+        for i, p in enumerate(pts):
+            for q in pts[i + 1:]:
+                best = max(best, math.hypot(p[0] - q[0], p[1] - q[1]))
+        return best or 1.0
+
+
+# -- file format ------------------------------------------------------------------
+
+
+def _num(value, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{where}: expected a finite number, got {value!r}")
+    return float(value)
+
+
+def _xy(value, where: str) -> Point2:
+    if not isinstance(value, (list, tuple)) or len(value) != 2:
+        raise InputError(f"{where}: expected [x, y], got {value!r}")
+    return _num(value[0], f"{where}[0]"), _num(value[1], f"{where}[1]")
+
+
+def _keys(obj, allowed: set[str], required: set[str], where: str) -> None:
+    if not isinstance(obj, dict):
+        raise InputError(f"{where}: expected an object, got {type(obj).__name__}")
+    unknown = set(obj) - allowed
+    if unknown:
+        raise InputError(f"{where}: unknown field(s) {sorted(unknown)}; allowed: {sorted(allowed)}")
+    missing = required - set(obj)
+    if missing:
+        raise InputError(f"{where}: missing field(s) {sorted(missing)}")
+
+
+def mechanism_from_dict(data: Mapping, source: str = "<dict>") -> Mechanism:
+    """Build a :class:`Mechanism` from the JSON structure documented in ``docs/kinematics.md``.
+
+    >>> m = mechanism_from_dict({"links": ["g", "a", "b", "c"], "ground": "g",
+    ...     "joints": [{"name": "A", "type": "R", "links": ["g", "a"], "at": [0, 0]},
+    ...                {"name": "B", "type": "R", "links": ["a", "b"], "at": [1, 0]},
+    ...                {"name": "C", "type": "R", "links": ["b", "c"], "at": [2, 2]},
+    ...                {"name": "D", "type": "R", "links": ["c", "g"], "at": [3, 0]}],
+    ...     "inputs": [{"joint": "A", "speed": 90}]})
+    >>> round(m.inputs[0].speed, 6)  # degrees by default
+    1.570796
+    """
+    _keys(data, {"name", "angle_unit", "links", "ground", "joints", "inputs", "points", "polygons", "comment"},
+          {"links", "ground", "joints", "inputs"}, source)
+    unit = data.get("angle_unit", "deg")
+    if unit not in ("deg", "rad"):
+        raise InputError(f"{source}: angle_unit must be 'deg' or 'rad', got {unit!r}")
+    to_rad = math.radians if unit == "deg" else float
+    links, link_angles = [], {}
+    if not isinstance(data["links"], list):
+        raise InputError(f"{source}: links: expected a list")
+    for k, item in enumerate(data["links"]):
+        where = f"{source}: links[{k}]"
+        if isinstance(item, str):
+            links.append(item)
+            continue
+        _keys(item, {"name", "angle"}, {"name"}, where)
+        links.append(str(item["name"]))
+        if "angle" in item:
+            link_angles[links[-1]] = to_rad(_num(item["angle"], f"{where}.angle"))
+    joints = []
+    if not isinstance(data["joints"], list):
+        raise InputError(f"{source}: joints: expected a list")
+    for k, item in enumerate(data["joints"]):
+        where = f"{source}: joints[{k}]"
+        _keys(item, {"name", "type", "links", "at", "direction", "origin"}, {"name", "type", "links", "at"}, where)
+        if not isinstance(item["links"], list):
+            raise InputError(f"{where}.links: expected a list of link names")
+        joints.append(Joint(
+            str(item["name"]), str(item["type"]), tuple(str(x) for x in item["links"]), _xy(item["at"], f"{where}.at"),
+            to_rad(_num(item.get("direction", 0.0), f"{where}.direction")),
+            _xy(item["origin"], f"{where}.origin") if "origin" in item else None,
+        ))
+    inputs = []
+    for k, item in enumerate(data["inputs"]):
+        where = f"{source}: inputs[{k}]"
+        _keys(item, {"joint", "speed", "acceleration"}, {"joint"}, where)
+        jt = next((j for j in joints if j.name == item["joint"]), None)
+        scale = to_rad if jt is not None and jt.kind == "R" else float
+        inputs.append(Input(str(item["joint"]), scale(_num(item.get("speed", 1.0), f"{where}.speed")),
+                            scale(_num(item.get("acceleration", 0.0), f"{where}.acceleration"))))
+    points = []
+    for k, item in enumerate(data.get("points", [])):
+        where = f"{source}: points[{k}]"
+        _keys(item, {"name", "link", "at"}, {"name", "link", "at"}, where)
+        points.append(CouplerPoint(str(item["name"]), str(item["link"]), _xy(item["at"], f"{where}.at")))
+    polygons = []
+    for k, item in enumerate(data.get("polygons", [])):
+        where = f"{source}: polygons[{k}]"
+        _keys(item, {"name", "link", "vertices"}, {"name", "link", "vertices"}, where)
+        polygons.append(Polygon(str(item["name"]), str(item["link"]),
+                                tuple(_xy(v, f"{where}.vertices[{i}]") for i, v in enumerate(item["vertices"]))))
+    return Mechanism.build(str(data.get("name", source)), links, str(data["ground"]), joints, inputs,
+                           points, polygons, link_angles, source)
+
+
+def load_mechanism(path: str) -> Mechanism:
+    """Read a mechanism file (JSON). Errors name the file, line and field."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            text = fh.read()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read: {exc.strerror}") from None
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}") from None
+    return mechanism_from_dict(data, path)
+
+
+def mechanism_to_dict(mech: Mechanism) -> dict:
+    """The JSON structure of ``mech`` (angles in degrees); inverse of :func:`mechanism_from_dict`."""
+    angles = dict(mech.link_angles)
+    deg = math.degrees
+    out: dict = {"name": mech.name, "angle_unit": "deg", "ground": mech.ground,
+                 "links": [{"name": x, "angle": deg(angles[x])} if x in angles else x for x in mech.links],
+                 "joints": [], "inputs": []}
+    for j in mech.joints:
+        item = {"name": j.name, "type": j.kind, "links": list(j.links), "at": list(j.at)}
+        if j.kind == "P":
+            item["direction"] = deg(j.direction)
+            if j.origin is not None:
+                item["origin"] = list(j.origin)
+        out["joints"].append(item)
+    for i in mech.inputs:
+        scale = deg if mech.joint(i.joint).kind == "R" else float
+        out["inputs"].append({"joint": i.joint, "speed": scale(i.speed), "acceleration": scale(i.acceleration)})
+    if mech.points:
+        out["points"] = [{"name": p.name, "link": p.link, "at": list(p.at)} for p in mech.points]
+    if mech.polygons:
+        out["polygons"] = [{"name": p.name, "link": p.link, "vertices": [list(v) for v in p.vertices]}
+                           for p in mech.polygons]
+    return out
+
+
+def from_labelled(chain, at: Mapping, directions: Mapping | None = None, inputs: Iterable | None = None,
+                  guides: Mapping | None = None, name: str = "candidate", points: Iterable = ()) -> Mechanism:
+    """A dimensioned mechanism from a :class:`~domes.model.LabelledChain` plus joint coordinates.
+
+    ``at[(u, v)]`` is the drawn position of the joint between links ``u`` and
+    ``v``; ``directions[(u, v)]`` the slide direction (rad) of a P joint,
+    whose guide is ``guides[(u, v)]`` (default the lower-numbered link).
+    Links are named ``"0"``, ``"1"``, ...; the ground is the link with role
+    ``ground``; ``inputs`` lists driven joints as link pairs (default: the
+    joint between the ground and each link with role ``input``).
+
+    >>> from domes.model import LabelledChain
+    >>> c = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (3, 0)], roles={0: {"ground"}, 1: {"input"}})
+    >>> m = from_labelled(c, {(0, 1): (0, 0), (1, 2): (1, 0), (2, 3): (3.5, 2.449), (0, 3): (3, 0)})
+    >>> [j.name for j in m.joints], m.inputs[0].joint
+    (['J0-1', 'J0-3', 'J1-2', 'J2-3'], 'J0-1')
+    """
+    def key(pair):
+        return (min(pair), max(pair))
+
+    at = {key(k): v for k, v in at.items()}
+    directions = {key(k): v for k, v in (directions or {}).items()}
+    guides = {key(k): v for k, v in (guides or {}).items()}
+    grounds = chain.links_with_role("ground")
+    if len(grounds) != 1:
+        raise InputError(f"labelled chain: needs exactly one link with role 'ground', found {grounds}")
+    joints = []
+    for (u, v), t in zip(chain.edges, chain.joint_types):
+        jname = f"J{u}-{v}"
+        if (u, v) not in at:
+            raise InputError(f"labelled chain: no coordinates for joint {u}-{v} (at[({u}, {v})])")
+        xy = tuple(float(c) for c in at[(u, v)])
+        if t == "P":
+            if (u, v) not in directions:
+                raise InputError(f"labelled chain: P joint {u}-{v} needs a slide direction (directions[({u}, {v})])")
+            g = guides.get((u, v), u)
+            if g not in (u, v):
+                raise InputError(f"labelled chain: guide {g} of joint {u}-{v} is not one of its links")
+            joints.append(Joint(jname, "P", (str(g), str(v if g == u else u)), xy, float(directions[(u, v)])))
+        elif t == "R":
+            joints.append(Joint(jname, "R", (str(u), str(v)), xy))
+        else:
+            raise InputError(f"labelled chain: joint {u}-{v} has type {t!r}; the planar kinematics backend takes "
+                             "R and P joints (model a cylinder 'H' as two links joined by a P joint)")
+    if inputs is None:
+        g = grounds[0]
+        inputs = []
+        for k in chain.links_with_role("input"):
+            if (min(g, k), max(g, k)) not in chain.edges:
+                raise InputError(f"labelled chain: input link {k} is not jointed to the ground {g}; name the driven joint")
+            inputs.append((g, k))
+    ins = [Input(f"J{min(p)}-{max(p)}") for p in inputs]
+    return Mechanism.build(name, [str(i) for i in range(chain.n)], str(grounds[0]), joints, ins, tuple(points))

@@ -1,0 +1,38 @@
+"""Motion: the kinematics backend (planar now; spatial mechanisms and coupler curves to come).
+
+A :class:`Mechanism` (links, R and P joints in a drawn pose, ground, inputs,
+coupler points) is read from a JSON file (:func:`load_mechanism`) or built
+from a labelled candidate plus dimensions (:func:`from_labelled`). A query
+names its outputs and derivative order and solves only the Assur groups they
+depend on (:class:`Kinematics`, :func:`solve`, :func:`sweep`); every step
+carries its loop-closure residual and condition number; dead points are
+located, never stepped over. :mod:`domes.motion.planar.checks` holds the
+verification checks of the design process.
+
+>>> from domes.motion.planar.examples import four_bar
+>>> import math
+>>> step = solve(four_bar(), math.radians(60), outputs=["angle:coupler"], order=1)
+>>> round(step.values["angle:coupler"], 9), round(step.values["angle:coupler'"], 9)
+(0.459213879, -0.995656642)
+"""
+
+from domes.model.mechanism import (
+    CouplerPoint,
+    Input,
+    Joint,
+    Mechanism,
+    Polygon,
+    from_labelled,
+    load_mechanism,
+    mechanism_from_dict,
+    mechanism_to_dict,
+)
+from domes.motion.planar.query import PRESETS, Accuracy, Kinematics, Step, accuracy
+from domes.motion.planar.structure import Structure
+from domes.motion.planar.sweep import DeadPoint, Sweep, solve, sweep
+
+__all__ = [
+    "Accuracy", "CouplerPoint", "DeadPoint", "Input", "Joint", "Kinematics", "Mechanism", "PRESETS", "Polygon",
+    "Step", "Structure", "Sweep", "accuracy", "from_labelled", "load_mechanism", "mechanism_from_dict",
+    "mechanism_to_dict", "solve", "sweep",
+]

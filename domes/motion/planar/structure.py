@@ -1,0 +1,477 @@
+"""Variables, loop equations and the Assur-group decomposition of a mechanism.
+
+Every link ``k`` has a rotation ``Δ_k`` from the drawn pose. Links joined by
+a P joint turn together, and a driven R joint ties its two links' rotations
+through the input, so each link's rotation is a linear expression
+``Δ_k = Σ c·v + const`` in the *rotation variables* (one per class of links
+turning together, named ``rot:<first link of the class>``) and the inputs
+(``q:<joint>``). Each undriven P joint has a slide variable ``s:<joint>``.
+
+A *group* is a set of moving links whose variables are fixed once the links
+it is jointed to are known: an Assur group, or a driver (a link with a
+driven joint to a known link). Its loop equations (seed 000, eq. 15) sum
+link units (:mod:`domes.motion.planar.units`) around a cycle basis of the
+group's links plus the known links contracted to one node.
+
+>>> from domes.motion.planar.examples import four_bar
+>>> s = Structure.of(four_bar())
+>>> [g.kind for g in s.groups], s.groups[1].unknowns
+(['driver', 'RRR'], ('rot:coupler', 'rot:rocker'))
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+from itertools import combinations
+
+from domes.errors import InputError
+from domes.model.mechanism import Joint, Mechanism
+from domes.motion.planar.units import rp2_unit, rr_unit
+
+KNOWN = "<known>"
+
+
+@dataclass(frozen=True)
+class Rotation:
+    """``Δ = Σ coeff·var + const`` (rad, from the drawn pose)."""
+
+    terms: tuple[tuple[str, float], ...]
+    const: float = 0.0
+
+    def value(self, values) -> float:
+        return sum(c * values[v] for v, c in self.terms) + self.const
+
+    def rate(self, rates) -> float:
+        return sum(c * rates[v] for v, c in self.terms)
+
+    def shifted(self, terms: dict, const: float) -> "Rotation":
+        out = dict(self.terms)
+        for v, c in terms.items():
+            out[v] = out.get(v, 0.0) + c
+        return Rotation(tuple((v, c) for v, c in sorted(out.items()) if c), self.const + const)
+
+
+@dataclass(frozen=True)
+class Segment:
+    """One term of a loop sum: a link's vector between two of its points, or a slide.
+
+    ``kind == "link"``: ``l·u(Δ + α)``. ``kind == "slide"``:
+    ``sign·(s − s0)·u(Δ + ψ)`` along a P joint, ``Δ`` the guide's rotation.
+    """
+
+    kind: str
+    rotation: Rotation
+    length: float = 0.0
+    alpha: float = 0.0
+    slide: str = ""
+    s0: float = 0.0
+    sign: float = 1.0
+
+
+def link_segment(rotation: Rotation, p, q) -> Segment:
+    dx, dy = q[0] - p[0], q[1] - p[1]
+    return Segment("link", rotation, math.hypot(dx, dy), math.atan2(dy, dx))
+
+
+def evaluate(segments, values, rates=None, lib=math):
+    """Sum the link units of ``segments``: ``(A, cols, dcols)``.
+
+    ``cols[v]`` is ``∂A/∂v`` and ``dcols[v]`` its time derivative (only when
+    ``rates`` is given), each a 2-list; ``A`` is a 2-list.
+    """
+    A = [0 * lib.cos(0), 0 * lib.cos(0)]
+    cols: dict[str, list] = {}
+    dcols: dict[str, list] = {}
+
+    def add(store, v, c, col):
+        acc = store.setdefault(v, [0, 0])
+        acc[0] += c * col[0]
+        acc[1] += c * col[1]
+
+    for seg in segments:
+        rot = seg.rotation
+        delta = sum(c * values[v] for v, c in rot.terms) + rot.const
+        ddelta = sum(c * rates[v] for v, c in rot.terms) if rates is not None else 0.0
+        if seg.kind == "link":
+            a, J, Jd = rr_unit(seg.length, seg.alpha, delta, ddelta, lib)
+            A[0] += a[0]
+            A[1] += a[1]
+            for v, c in rot.terms:
+                add(cols, v, c, J[0])
+                if rates is not None:
+                    add(dcols, v, c, Jd[0])
+        else:
+            sd = rates[seg.slide] if rates is not None else 0.0
+            a, J, Jd = rp2_unit(0.0, delta + seg.alpha, values[seg.slide] - seg.s0, ddelta, sd, lib)
+            k = seg.sign
+            A[0] += k * a[0]
+            A[1] += k * a[1]
+            for v, c in rot.terms:
+                add(cols, v, k * c, J[0])
+                if rates is not None:
+                    add(dcols, v, k * c, Jd[0])
+            add(cols, seg.slide, k, J[1])
+            if rates is not None:
+                add(dcols, seg.slide, k, Jd[1])
+    return A, cols, dcols
+
+
+@dataclass(frozen=True)
+class Group:
+    """An Assur group (or a driver) with its unknowns and loop equations."""
+
+    index: int
+    links: tuple[str, ...]
+    joints: tuple[str, ...]
+    kind: str
+    unknowns: tuple[str, ...]
+    loops: tuple[tuple[Segment, ...], ...]
+    parents: tuple[int, ...]
+
+    @property
+    def equations(self) -> int:
+        return 2 * len(self.loops)
+
+    @property
+    def label(self) -> str:
+        return f"{self.kind} group {{{', '.join(self.links)}}}"
+
+
+def _group_kind(mech: Mechanism, links, joints, driven) -> str:
+    if len(links) == 1:
+        return "driver"
+    if len(links) == 2 and len(joints) == 3 and not (set(joints) & driven):
+        inner = next(j for j in joints if set(mech.joint(j).links) == set(links))
+        outer = [j for j in joints if j != inner]
+        pattern = [mech.joint(outer[0]).kind, mech.joint(inner).kind, mech.joint(outer[1]).kind]
+        if pattern[0] == "P" and pattern[2] == "R":
+            pattern.reverse()
+        return "".join(pattern)
+    return f"class-{_class_of(mech, links, joints)}" if not (set(joints) & driven) else f"{len(links)}-link"
+
+
+def _class_of(mech: Mechanism, links, joints) -> str:
+    """Assur class: the largest closed polygon formed by the group's own links (II for a dyad)."""
+    inner = [mech.joint(j).links for j in joints if set(mech.joint(j).links) <= set(links)]
+    degree = {x: sum(x in pair for pair in inner) for x in links}
+    biggest = max(degree.values()) if degree else 0
+    # Triads (class III) have a ternary link joined to two binaries; class IV a closed quadrilateral.
+    if len(links) == 4 and len(inner) == 4 and biggest == 2:
+        return "IV"
+    if len(links) == 4 and biggest == 3:
+        return "III"
+    return {2: "II", 4: "III"}.get(len(links), "higher")
+
+
+class Structure:
+    """Rotation classes, variables and the Assur decomposition of a mechanism."""
+
+    def __init__(self, mech: Mechanism, groups: tuple[Group, ...], rotations: dict, inputs: dict, drawn: dict):
+        self.mech = mech
+        self.groups = groups
+        self.rotations = rotations          # link -> Rotation
+        self.input_vars = inputs            # joint name -> variable name
+        self.drawn = drawn                  # variable -> value in the drawn pose
+
+    # -- construction ----------------------------------------------------------------
+
+    @classmethod
+    def of(cls, mech: Mechanism, method: str = "assur") -> "Structure":
+        """Decompose ``mech`` into groups (``method="assur"``) or one group of all moving links (``"newton"``)."""
+        if method not in ("assur", "newton"):
+            raise InputError(f"method must be 'assur' or 'newton', got {method!r}")
+        rotations, input_vars, drawn = _rotation_classes(mech)
+        driven = set(input_vars)
+        known = {mech.ground}
+        owner: dict[str, int] = {}
+        groups: list[Group] = []
+        remaining = [x for x in mech.links if x != mech.ground]
+        while remaining:
+            found = None
+            sizes = range(1, len(remaining) + 1) if method == "assur" else [len(remaining)]
+            for k in sizes:
+                for cand in combinations(remaining, k):
+                    s = set(cand)
+                    js = [j for j in mech.joints if set(j.links) & s and set(j.links) <= s | known]
+                    if sum(3 if j.name in driven else 2 for j in js) == 3 * k and _connected(cand, js, known):
+                        found = (cand, js)
+                        break
+                if found:
+                    break
+            if not found:
+                raise InputError(f"{mech.name}: links {remaining} do not form Assur groups over the known links "
+                                 f"{sorted(known)}: the chain is not driven by its inputs (or has redundant constraints)")
+            cand, js = found
+            index = len(groups)
+            seg_vars = set()
+            for x in cand:
+                seg_vars |= {v for v, _ in rotations[x].terms}
+            seg_vars |= {_slide_var(j, input_vars) for j in js if j.kind == "P"}
+            unknowns = tuple(sorted(v for v in seg_vars if not v.startswith("q:") and v not in owner))
+            for v in unknowns:
+                owner[v] = index
+            parents = {_owner_of_link(groups, other) for j in js for other in j.links if other in known} - {None}
+            parents |= {owner[v] for v in seg_vars if v in owner and owner[v] != index}
+            ancestors = set(parents)
+            for p in parents:
+                ancestors |= _ancestors(groups, p)
+            allowed = {mech.ground} | {x for g in ancestors for x in groups[g].links}
+            loops = _group_loops(mech, cand, js, allowed, rotations, input_vars)
+            kind = _group_kind(mech, cand, [j.name for j in js], driven)
+            if len(unknowns) != 2 * len(loops):
+                raise InputError(f"{mech.name}: links {list(cand)} ({kind}) have {len(unknowns)} unknowns for "
+                                 f"{2 * len(loops)} loop equations: not a determinate group (e.g. three P joints)")
+            groups.append(Group(index, tuple(cand), tuple(j.name for j in js), kind, unknowns, tuple(loops),
+                                tuple(sorted(parents))))
+            known |= set(cand)
+            remaining = [x for x in remaining if x not in cand]
+        return cls(mech, tuple(groups), rotations, input_vars, drawn)
+
+    # -- queries -----------------------------------------------------------------------
+
+    def group_of(self, link: str) -> int | None:
+        return _owner_of_link(self.groups, link)
+
+    def needed(self, links) -> list[int]:
+        """Indices of the groups that fix ``links`` (with all groups they depend on), in solving order."""
+        need = set()
+        for x in links:
+            g = self.group_of(x)
+            if g is not None:
+                need |= {g} | _ancestors(self.groups, g)
+        return sorted(need)
+
+    def point_path(self, link: str, at, allowed) -> tuple[Segment, ...]:
+        """Segments summing to the world position of the drawn point ``at`` of ``link``."""
+        mech = self.mech
+        prev = _tree(mech, mech.ground, allowed)
+        if link != mech.ground and link not in prev:
+            raise InputError(f"{mech.name}: link {link!r} is not connected to the ground through solved links")
+        chain = []
+        x = link
+        while x != mech.ground:
+            j, parent = prev[x]
+            chain.append((parent, j, x))
+            x = parent
+        chain.reverse()
+        segs = []
+        here = (0.0, 0.0)
+        for parent, j, child in chain:
+            segs.append(link_segment(self.rotations[parent], here, j.at))
+            if j.kind == "P":
+                segs.append(_slide_segment(j, parent, self.rotations, self.input_vars))
+            here = j.at
+        segs.append(link_segment(self.rotations[link], here, at))
+        return tuple(segs)
+
+
+def _slide_var(j: Joint, input_vars) -> str:
+    return input_vars.get(j.name, f"s:{j.name}")
+
+
+def _slide_segment(j: Joint, entered_from: str, rotations, input_vars) -> Segment:
+    guide = j.links[0]
+    return Segment("slide", rotations[guide], alpha=j.direction, slide=_slide_var(j, input_vars), s0=j.s0,
+                   sign=1.0 if entered_from == guide else -1.0)
+
+
+def _rotation_classes(mech: Mechanism):
+    """Rotation expressions of the links, input variables and drawn-pose values."""
+    input_vars = {i.joint: f"q:{i.joint}" for i in mech.inputs}
+    drawn: dict[str, float] = {}
+    ref = {x: (0.0 if x == mech.ground else mech.reference_angle(x)) for x in mech.links}
+    ties: dict[str, list] = {x: [] for x in mech.links}
+    for j in mech.joints:
+        a, b = j.links
+        if j.kind == "P":
+            terms, const = {}, 0.0
+        elif j.name in input_vars:
+            q = input_vars[j.name]
+            if mech.ground in (a, b):
+                other = b if a == mech.ground else a
+                a, b = mech.ground, other
+            # q = angle(b) − angle(a)  ⇒  Δ_b = Δ_a + q − (ref_b − ref_a)
+            terms, const = {q: 1.0}, -(ref[b] - ref[a])
+            drawn[q] = ref[b] - ref[a]
+        else:
+            continue
+        ties[a].append((b, terms, const))
+        ties[b].append((a, {v: -c for v, c in terms.items()}, -const))
+    for i in mech.inputs:
+        j = mech.joint(i.joint)
+        if j.kind == "P":
+            drawn[input_vars[j.name]] = j.s0
+    for j in mech.joints:
+        if j.kind == "P" and j.name not in input_vars:
+            drawn[f"s:{j.name}"] = j.s0
+    rotations: dict[str, Rotation] = {}
+    order = [mech.ground] + [x for x in mech.links if x != mech.ground]
+    for root in order:
+        if root in rotations:
+            continue
+        rotations[root] = Rotation(()) if root == mech.ground else Rotation(((f"rot:{root}", 1.0),))
+        if root != mech.ground:
+            drawn[f"rot:{root}"] = 0.0
+        queue = deque([root])
+        while queue:
+            x = queue.popleft()
+            for y, terms, const in ties[x]:
+                expr = rotations[x].shifted(terms, const)
+                if y not in rotations:
+                    rotations[y] = expr
+                    queue.append(y)
+                elif dict(rotations[y].terms) != dict(expr.terms) or abs(rotations[y].const - expr.const) > 1e-12:
+                    raise InputError(f"{mech.name}: link {y!r} is tied to turn with {x!r} in two inconsistent ways "
+                                     "(a closed circuit of P joints and driven joints)")
+    return rotations, input_vars, drawn
+
+
+def _connected(cand, joints, known) -> bool:
+    nodes = set(cand) | {KNOWN}
+    adj = {n: set() for n in nodes}
+    for j in joints:
+        a, b = (KNOWN if x in known else x for x in j.links)
+        adj[a].add(b)
+        adj[b].add(a)
+    seen, stack = {KNOWN}, [KNOWN]
+    while stack:
+        for y in adj[stack.pop()] - seen:
+            seen.add(y)
+            stack.append(y)
+    return seen == nodes
+
+
+def _owner_of_link(groups, link):
+    for g in groups:
+        if link in g.links:
+            return g.index
+    return None
+
+
+def _ancestors(groups, index) -> set[int]:
+    out, stack = set(), [index]
+    while stack:
+        for p in groups[stack.pop()].parents:
+            if p not in out:
+                out.add(p)
+                stack.append(p)
+    return out
+
+
+def _tree(mech: Mechanism, root: str, allowed) -> dict:
+    """BFS tree over links in ``allowed``: ``link -> (joint, parent)``."""
+    prev = {root: None}
+    queue = deque([root])
+    while queue:
+        x = queue.popleft()
+        for j in mech.joints:
+            if x in j.links:
+                y = j.links[1] if j.links[0] == x else j.links[0]
+                if y in allowed and y not in prev:
+                    prev[y] = (j, x)
+                    queue.append(y)
+    del prev[root]
+    return prev
+
+
+def _group_loops(mech: Mechanism, cand, joints, allowed, rotations, input_vars) -> list[tuple[Segment, ...]]:
+    """Fundamental cycles of the group (known links contracted to one node), as segment lists."""
+    def node(x):
+        return x if x in cand else KNOWN
+
+    adj: dict[str, list] = {n: [] for n in list(cand) + [KNOWN]}
+    for j in joints:
+        a, b = (node(x) for x in j.links)
+        adj[a].append((j, b))
+        adj[b].append((j, a))
+    prev = {KNOWN: None}
+    queue = deque([KNOWN])
+    tree = set()
+    while queue:
+        x = queue.popleft()
+        for j, y in adj[x]:
+            if y not in prev:
+                prev[y] = (j, x)
+                tree.add(j.name)
+                queue.append(y)
+
+    def to_root(x):
+        path = []
+        while prev[x] is not None:
+            j, p = prev[x]
+            path.append((x, j, p))
+            x = p
+        return path
+
+    known_tree = {}
+    loops = []
+    for j in joints:
+        if j.name in tree:
+            continue
+        a, b = j.links
+        # Cycle: a --j--> b, then b up to the common ancestor and down to a.
+        up_b, up_a = to_root(node(b)), to_root(node(a))
+        nodes_b = [node(b)] + [p for _, _, p in up_b]
+        nodes_a = [node(a)] + [p for _, _, p in up_a]
+        common = next(x for x in nodes_b if x in nodes_a)
+        steps = [(a, j, b)]  # (from link, joint, to link) with real link names
+        for x, jj, p in up_b[: nodes_b.index(common)]:
+            steps.append((_end(jj, x, cand), jj, _other(jj, _end(jj, x, cand))))
+        down = up_a[: nodes_a.index(common)]
+        for x, jj, p in reversed(down):
+            frm = _other(jj, _end(jj, x, cand))
+            steps.append((frm, jj, _end(jj, x, cand)))
+        loops.append(_walk(mech, steps, cand, allowed, rotations, input_vars, known_tree))
+    return loops
+
+
+def _end(j: Joint, node_name, cand) -> str:
+    """The real link of joint ``j`` that stands for ``node_name`` (a group link or the known node)."""
+    if node_name != KNOWN:
+        return node_name
+    return next(x for x in j.links if x not in cand)
+
+
+def _other(j: Joint, x) -> str:
+    return j.links[1] if j.links[0] == x else j.links[0]
+
+
+def _walk(mech, steps, cand, allowed, rotations, input_vars, cache) -> tuple[Segment, ...]:
+    """Segments of the closed walk given by its joint crossings ``(from, joint, to)``."""
+    segs: list[Segment] = []
+    n = len(steps)
+    for i, (frm, j, to) in enumerate(steps):
+        if j.kind == "P":
+            segs.append(_slide_segment(j, frm, rotations, input_vars))
+        nxt_from, nxt_j, _ = steps[(i + 1) % n]
+        if to == nxt_from:
+            segs.append(link_segment(rotations[to], j.at, nxt_j.at))
+        else:  # both known: go through known links
+            segs.extend(_known_path(mech, to, j.at, nxt_from, nxt_j.at, allowed, rotations, input_vars, cache))
+    return tuple(segs)
+
+
+def _known_path(mech, start, p, goal, q, allowed, rotations, input_vars, cache) -> list[Segment]:
+    key = (start, tuple(sorted(allowed)))
+    if key not in cache:
+        cache[key] = _tree(mech, start, allowed)
+    prev = cache[key]
+    if goal != start and goal not in prev:
+        raise InputError(f"{mech.name}: known links {start!r} and {goal!r} are not connected through solved links")
+    chain = []
+    x = goal
+    while x != start:
+        j, parent = prev[x]
+        chain.append((parent, j, x))
+        x = parent
+    chain.reverse()
+    segs, here = [], p
+    for parent, j, child in chain:
+        segs.append(link_segment(rotations[parent], here, j.at))
+        if j.kind == "P":
+            segs.append(_slide_segment(j, parent, rotations, input_vars))
+        here = j.at
+    segs.append(link_segment(rotations[goal], here, q))
+    return segs

@@ -1,0 +1,295 @@
+"""The case base: where it is, its schema check, and the knowledge base of criterion frames in it.
+
+``casebase.db`` (SQLite) at the top of the checkout is the default; the
+``--db`` option or the ``DOMES_DB`` environment variable selects any
+SQLAlchemy URL (or a path to an SQLite file) instead. The readable sources
+are ``knowledge/`` beside it, or ``DOMES_KNOWLEDGE``. Every edit is one
+transaction, in one session: an edit that is refused changes nothing.
+
+>>> import tempfile, os
+>>> from domes.knowledge.frames import CriterionFrame
+>>> path = os.path.join(tempfile.mkdtemp(), "kb.db")
+>>> kb = KnowledgeBase(path, create=True)
+>>> kb.add(CriterionFrame.create("c1", "every vertex must have degree at most 4"))
+>>> [f.id for f in kb.frames()]
+['c1']
+>>> kb.add(CriterionFrame.create("c1", "every vertex must have degree at most 3"))
+Traceback (most recent call last):
+...
+domes.errors.InputError: a criterion with id 'c1' is already in the knowledge base (use edit to change it)
+>>> kb.close()
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Iterable
+
+from sqlalchemy import create_engine, func, inspect, select
+from sqlalchemy.engine import Engine, make_url
+from sqlalchemy.exc import ArgumentError, SQLAlchemyError
+from sqlalchemy.orm import Session
+
+from domes.errors import DomesError, InputError
+from domes.knowledge.frames import CriterionFrame
+from domes.store.models import SCHEMA_VERSIONS, Base, CriterionRow, ProblemRow, SchemaVersion
+from domes.knowledge.problems import ProblemFrame
+from domes.io.criteria import check_unique, read_cases, read_knowledge
+from domes.io.resources import knowledge_dir, repo_root
+
+DB_ENV = "DOMES_DB"
+DEFAULT_DB_NAME = "casebase.db"
+
+
+def database_url(db: str | None = None) -> str:
+    """The case base URL: ``db``, else ``$DOMES_DB``, else ``casebase.db`` of the checkout; a path means SQLite.
+
+    >>> database_url("sqlite:///x.db")
+    'sqlite:///x.db'
+    """
+    chosen = db or os.environ.get(DB_ENV)
+    if not chosen:
+        return f"sqlite:///{repo_root() / DEFAULT_DB_NAME}"
+    if "://" in chosen:
+        return chosen
+    return f"sqlite:///{Path(chosen).resolve()}"
+
+
+def sqlite_path(url: str) -> Path | None:
+    """The file of an SQLite URL (None for another database or an in-memory one)."""
+    try:
+        parsed = make_url(url)
+    except ArgumentError:
+        raise InputError(f"{url!r} is not a database URL (e.g. sqlite:///casebase.db) nor a file path") from None
+    if parsed.get_backend_name() != "sqlite" or parsed.database in (None, "", ":memory:"):
+        return None
+    return Path(parsed.database)
+
+
+def _engine(url: str) -> Engine:
+    try:
+        return create_engine(url)
+    except (ArgumentError, SQLAlchemyError, ImportError) as exc:
+        raise InputError(f"cannot open the case base {url}: {exc}") from None
+
+
+def open_engine(url: str, create: bool = False) -> Engine:
+    """An engine on a case base of the right schema version.
+
+    With ``create`` an empty (or missing) database gets the schema;
+    otherwise it is an error. A database of another version, or one that
+    is not a case base, is refused with a message saying what to do.
+    """
+    path = sqlite_path(url)
+    if path is not None and not path.exists() and not create:
+        raise InputError(f"no case base at {path}: build it with `domes kb build` (or choose one with --db / {DB_ENV})")
+    engine = _engine(url)
+    try:
+        tables = set(inspect(engine).get_table_names())
+        if SchemaVersion.__tablename__ not in tables:
+            if tables:
+                raise InputError(f"{url} is not a DOMES-py case base (it has tables {sorted(tables)} but no schema_version)")
+            if not create:
+                raise InputError(f"the case base {url} is empty: build it with `domes kb build` or fill it with `domes kb import`")
+            with engine.begin() as conn:
+                Base.metadata.create_all(conn)
+                conn.execute(SchemaVersion.__table__.insert(), [{"component": c, "version": v} for c, v in SCHEMA_VERSIONS.items()])
+            return engine
+        with Session(engine) as session:
+            found = {row.component: row.version for row in session.scalars(select(SchemaVersion))}
+    except SQLAlchemyError as exc:
+        engine.dispose()
+        raise InputError(f"cannot read the case base {url}: {exc}") from None
+    except DomesError:
+        engine.dispose()
+        raise
+    for component, version in SCHEMA_VERSIONS.items():
+        if found.get(component) != version:
+            engine.dispose()
+            have = "no" if component not in found else f"version {found[component]} of the"
+            raise InputError(
+                f"the case base {url} has {have} '{component}' schema; this DOMES-py reads version {version}: "
+                "rebuild it with `domes kb build` (first export your own criteria with the DOMES-py that made it)"
+            )
+    return engine
+
+
+class KnowledgeBase:
+    """The criterion frames of a case base; every method is one unit of work (one session, one transaction).
+
+    ``url`` is a SQLAlchemy URL or an SQLite path (None: :func:`database_url`).
+    """
+
+    def __init__(self, url: str | None = None, create: bool = False):
+        self.url = database_url(url)
+        self.engine = open_engine(self.url, create=create)
+
+    def close(self) -> None:
+        self.engine.dispose()
+
+    def __enter__(self) -> "KnowledgeBase":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # -- reading -----------------------------------------------------------------------
+
+    def frames(self) -> list[CriterionFrame]:
+        """Every criterion frame, in knowledge-base order (the order of relevance vectors)."""
+        with Session(self.engine) as session:
+            rows = session.scalars(select(CriterionRow).order_by(CriterionRow.number)).all()
+            return [self._frame(row) for row in rows]
+
+    def get(self, criterion_id: str) -> CriterionFrame:
+        with Session(self.engine) as session:
+            return self._frame(self._row(session, criterion_id))
+
+    @staticmethod
+    def _frame(row: CriterionRow) -> CriterionFrame:
+        try:
+            return CriterionFrame.from_record(row.record())
+        except DomesError as exc:
+            raise InputError(f"stored criterion {row.id!r} is damaged: {exc}; run `domes kb check`") from None
+
+    @staticmethod
+    def _row(session: Session, criterion_id: str) -> CriterionRow:
+        row = session.get(CriterionRow, criterion_id)
+        if row is None:
+            raise InputError(f"no criterion with id {criterion_id!r} in the knowledge base (see `domes kb list`)")
+        return row
+
+    # -- editing: each method one transaction --------------------------------------------
+
+    @staticmethod
+    def _insert(session: Session, frames: list[CriterionFrame]) -> None:
+        for frame in frames:
+            if session.get(CriterionRow, frame.id) is not None:
+                raise InputError(f"a criterion with id {frame.id!r} is already in the knowledge base (use edit to change it)")
+        number = session.scalar(select(func.max(CriterionRow.number))) or 0
+        for frame in frames:
+            number += 1
+            session.add(CriterionRow(number=number, **frame.to_record()))
+
+    def add(self, frame: CriterionFrame) -> None:
+        """Add one frame; a duplicate id is refused."""
+        self.import_frames([frame])
+
+    def import_frames(self, frames: Iterable[CriterionFrame]) -> None:
+        """Add frames, all or none: duplicate ids (among them or with the knowledge base) are refused."""
+        frames = list(frames)
+        check_unique(frames, "import")
+        with Session(self.engine) as session, session.begin():
+            self._insert(session, frames)
+
+    def update(self, frame: CriterionFrame) -> None:
+        """Replace the stored frame that has ``frame.id`` (its position is kept)."""
+        with Session(self.engine) as session, session.begin():
+            row = self._row(session, frame.id)
+            for column, value in frame.to_record().items():
+                setattr(row, column, value)
+
+    def remove(self, criterion_id: str) -> None:
+        with Session(self.engine) as session, session.begin():
+            session.delete(self._row(session, criterion_id))
+
+    # -- solved-problem frames (Table 7-1) -----------------------------------------------
+
+    def problems(self, problem_class: str | None = None) -> list[ProblemFrame]:
+        """Every stored problem frame (of one class, if given), in the order they were solved."""
+        with Session(self.engine) as session:
+            query = select(ProblemRow).order_by(ProblemRow.number)
+            if problem_class is not None:
+                query = query.where(ProblemRow.problem_class == problem_class)
+            return [self._problem(row) for row in session.scalars(query)]
+
+    def get_problem(self, problem_id: str) -> ProblemFrame:
+        with Session(self.engine) as session:
+            row = session.get(ProblemRow, problem_id)
+            if row is None:
+                raise InputError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
+            return self._problem(row)
+
+    @staticmethod
+    def _problem(row: ProblemRow) -> ProblemFrame:
+        try:
+            return ProblemFrame.from_mapping(row.frame)
+        except DomesError as exc:
+            raise InputError(f"stored case {row.id!r} is damaged: {exc}; rebuild with `domes kb build`") from None
+
+    @staticmethod
+    def _insert_problems(session: Session, frames: list[ProblemFrame], replace: bool = False) -> None:
+        number = session.scalar(select(func.max(ProblemRow.number))) or 0
+        for frame in frames:
+            row = session.get(ProblemRow, frame.id)
+            if row is not None and not replace:
+                raise InputError(f"a case with id {frame.id!r} is already in the case base")
+            if row is None:
+                number += 1
+                session.add(ProblemRow(id=frame.id, number=number, problem_class=frame.problem_class, frame=frame.to_mapping()))
+            else:
+                row.problem_class, row.frame = frame.problem_class, frame.to_mapping()
+
+    def retain(self, frame: ProblemFrame, replace: bool = False) -> None:
+        """Store a solved problem (one transaction); an existing id is refused unless ``replace``."""
+        with Session(self.engine) as session, session.begin():
+            self._insert_problems(session, [frame], replace)
+
+    def remove_problem(self, problem_id: str) -> None:
+        with Session(self.engine) as session, session.begin():
+            row = session.get(ProblemRow, problem_id)
+            if row is None:
+                raise InputError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
+            session.delete(row)
+
+
+def build(source: str | Path | None = None, url: str | None = None) -> list[CriterionFrame]:
+    """Build the case base from the knowledge sources; returns the frames stored.
+
+    All sources are read and validated first. An SQLite file is built
+    beside its target and moved over it (the old one stays until the new
+    one is complete); another database has its tables dropped and made
+    anew in one transaction.
+    """
+    folder = knowledge_dir(source)
+    frames = read_knowledge(folder)
+    cases = read_cases(folder)
+    url = database_url(url)
+    path = sqlite_path(url)
+    if path is None:
+        engine = _engine(url)
+        try:
+            with engine.begin() as conn:
+                Base.metadata.drop_all(conn)
+                Base.metadata.create_all(conn)
+                conn.execute(SchemaVersion.__table__.insert(), [{"component": c, "version": v} for c, v in SCHEMA_VERSIONS.items()])
+                with Session(bind=conn) as session:
+                    KnowledgeBase._insert(session, frames)
+                    KnowledgeBase._insert_problems(session, cases)
+                    session.flush()
+        except SQLAlchemyError as exc:
+            raise InputError(f"cannot build the case base {url}: {exc}") from None
+        finally:
+            engine.dispose()
+        return frames
+    if not path.parent.is_dir():
+        raise InputError(f"cannot build {path}: folder {path.parent} does not exist")
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    if tmp.exists():
+        tmp.unlink()
+    try:
+        kb = KnowledgeBase(f"sqlite:///{tmp}", create=True)
+        try:
+            kb.import_frames(frames)
+            with Session(kb.engine) as session, session.begin():
+                KnowledgeBase._insert_problems(session, cases)
+        finally:
+            kb.close()
+        os.replace(tmp, path)
+    except (OSError, SQLAlchemyError) as exc:
+        raise InputError(f"cannot build {path}: {exc}") from None
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return frames

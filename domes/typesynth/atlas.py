@@ -1,0 +1,258 @@
+"""The unlabelled graph generator: every non-isomorphic, non-degenerate chain.
+
+A *chain* here is a planar kinematic chain of simple revolute joints: a
+connected simple graph (links = vertices, joints = edges), every link with
+at least two joints, no proper sub-chain of three or more links rigid or
+over-constrained (``3(|S| − 1) − 2e(S) ≤ 0``). Its DOF is
+``F = 3(n − 1) − 2j``; ``F = 0`` gives the basic chains of Table 3-4.
+
+Method (exact, not the book's SOC superposition of §3-2-II):
+
+* A chain without a cut link is 2-connected, so it has an open ear
+  decomposition, and removing its last ear (a branch of ``k`` binary links
+  between two distinct links) leaves a 2-connected chain ``H``. ``H`` is a
+  proper sub-chain, so it is non-degenerate too, with ``F(H) = F + 2 − k ≥ 1``
+  and one loop fewer. Hence all chains with ``L`` loops come from all chains
+  with ``L − 1`` loops by adding one ear, ``k = 0 … F + 1``, starting from the
+  single loop (the ``(F + 3)``-gon). An ear is kept when it creates no rigid
+  sub-chain (:func:`domes.model.rigidity.pair_slack`).
+* A chain with a cut link (fractionated, §3-2-I.5) is a smaller chain ``G0``
+  with a 2-connected leaf block ``B`` hung on it, directly on a shared link or
+  through a path of ``k`` bridging joints: ``F = F(G0) + F(B) + k``.
+* Duplicates are removed by nauty's canonical labelling (``isomorphism=
+  "nauty"``, exact). ``isomorphism="charpoly"`` removes them by the adjacency
+  matrix's characteristic polynomial instead, as the book does (§3-2-II.4):
+  faster to explain, but not exact (it merges two pairs of 10-bar chains).
+
+Only one representative per orbit of link pairs under the automorphism
+group of ``H`` is tried, so little work is repeated.
+
+>>> [len(chains(links=n, dof=1)) for n in (4, 6, 8)]
+[1, 2, 16]
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Iterable
+
+import numpy as np
+
+from domes.model.canon import automorphisms, canonical_form, certificate
+from domes.model.charpoly import characteristic_polynomial
+from domes.model.rigidity import pair_slack
+from domes.errors import InputError
+from domes.typesynth.number import chain_joints
+
+Edge = tuple[int, int]
+Graph = tuple[int, tuple[Edge, ...]]  # (links, joints) with links 0..n-1
+
+ISOMORPHISM_METHODS = ("nauty", "charpoly")
+
+ProgressFn = Callable[[str], None]
+
+
+def _cycle(n: int) -> Graph:
+    return n, tuple((i, (i + 1) % n) if i + 1 < n else (0, n - 1) for i in range(n))
+
+
+def _add_branch(graph: Graph, u: int, v: int, k: int) -> Graph:
+    """``graph`` plus a branch of ``k`` new binary links from link ``u`` to link ``v``."""
+    n, edges = graph
+    path = [u, *range(n, n + k), v]
+    return n + k, edges + tuple(zip(path, path[1:]))
+
+
+def _glue(base: Graph, u: int, block: Graph, c: int, k: int) -> Graph:
+    """``block`` hung on link ``u`` of ``base`` by its link ``c``.
+
+    With ``k = 0`` the two links are merged; with ``k ≥ 1`` they are joined by
+    a path of ``k`` joints through ``k − 1`` new binary links.
+    """
+    n0, edges0 = base
+    nb, edgesb = block
+    if k == 0:
+        # block links: c -> u, the others -> n0, n0+1, ...
+        others = [x for x in range(nb) if x != c]
+        name = {c: u, **{x: n0 + i for i, x in enumerate(others)}}
+        return n0 + nb - 1, edges0 + tuple((name[a], name[b]) for a, b in edgesb)
+    name = {x: n0 + x for x in range(nb)}
+    path = [u, *range(n0 + nb, n0 + nb + k - 1), name[c]]
+    edges = edges0 + tuple((name[a], name[b]) for a, b in edgesb) + tuple(zip(path, path[1:]))
+    return n0 + nb + k - 1, edges
+
+
+@dataclass
+class ChainGenerator:
+    """Generates chain atlases and remembers every atlas it has built.
+
+    One generator shares its intermediate atlases between requests, so a
+    second request is immediate. ``isomorphism`` is the speed/accuracy knob:
+    ``"nauty"`` (exact, default) or ``"charpoly"`` (the book's test, inexact).
+
+    >>> gen = ChainGenerator()
+    >>> len(gen.chains(links=7, dof=2)), len(gen.chains(links=7, dof=2, include_fractionated=True))
+    (3, 4)
+    """
+
+    isomorphism: str = "nauty"
+    progress: ProgressFn | None = None
+    _blocks: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
+    _all: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
+    _last_report: float = field(default=0.0, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.isomorphism not in ISOMORPHISM_METHODS:
+            raise InputError(
+                f"unknown isomorphism method {self.isomorphism!r}; choose one of {', '.join(ISOMORPHISM_METHODS)}"
+            )
+
+    # -- public -------------------------------------------------------------
+
+    def chains(self, links: int, dof: int, include_fractionated: bool = False) -> list[Graph]:
+        """All chains with ``links`` links and DOF ``dof``, canonically labelled and sorted."""
+        joints = chain_joints(links, dof)
+        loops = joints - links + 1
+        if loops < 1:
+            raise InputError(f"{links} links with DOF {dof} give {joints} joints: no closed chain (L = {loops})")
+        if include_fractionated:
+            return self._all_chains(loops, dof)
+        return self._two_connected(loops, dof)
+
+    # -- internals ----------------------------------------------------------
+
+    def _report(self, message: str, force: bool = False) -> None:
+        if self.progress is None:
+            return
+        now = time.monotonic()
+        if force or now - self._last_report >= 0.5:
+            self._last_report = now
+            self.progress(message)
+
+    def _key(self, graph: Graph) -> object:
+        n, edges = graph
+        if self.isomorphism == "nauty":
+            return certificate(n, edges)
+        return (n, characteristic_polynomial(n, edges))
+
+    def _finish(self, found: dict[object, Graph]) -> list[Graph]:
+        """Canonically relabel and sort (by link assortment, then certificate)."""
+        out = []
+        for n, edges in found.values():
+            cert, canon = canonical_form(n, edges)
+            degrees = np.bincount(np.array(canon).ravel(), minlength=n)
+            assortment = tuple(-c for c in np.bincount(degrees)[2:])
+            out.append((assortment, cert, (n, canon)))
+        out.sort(key=lambda item: (item[0], item[1]))
+        return [graph for _, _, graph in out]
+
+    def _two_connected(self, loops: int, dof: int) -> list[Graph]:
+        """Chains without a cut link: ``loops`` loops, DOF ``dof``."""
+        key = (loops, dof)
+        if key in self._blocks:
+            return self._blocks[key]
+        if loops == 1:
+            result = [_cycle(dof + 3)]
+        else:
+            found: dict[object, Graph] = {}
+            for k in range(dof + 2):
+                parents = self._two_connected(loops - 1, dof + 2 - k)
+                for index, parent in enumerate(parents):
+                    self._report(f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on parent {index + 1}/{len(parents)}, {len(found)} chains so far")
+                    self._add_ears(parent, k, found)
+            result = self._finish(found)
+        self._blocks[key] = result
+        self._report(f"{2 * loops + dof + 1} links, DOF {dof}, {loops} loops: {len(result)} chains without a cut link", force=True)
+        return result
+
+    def _add_ears(self, parent: Graph, k: int, found: dict[object, Graph]) -> None:
+        n, edges = parent
+        slack = pair_slack(n, edges)
+        ok = np.argwhere(np.triu(slack >= 3 - k, 1))
+        if not len(ok):
+            return
+        pairs = [(int(u), int(v)) for u, v in ok]
+        for u, v in automorphisms(n, edges).pair_orbit_representatives(pairs):
+            child = _add_branch(parent, u, v, k)
+            found.setdefault(self._key(child), child)
+
+    def _all_chains(self, loops: int, dof: int) -> list[Graph]:
+        """All chains, with or without a cut link."""
+        key = (loops, dof)
+        if key in self._all:
+            return self._all[key]
+        found: dict[object, Graph] = {self._key(g): g for g in self._two_connected(loops, dof)}
+        links = 2 * loops + dof + 1
+        # G = G0 (any chain) + leaf block B + k bridging joints;
+        # loops add up, DOF: F = F0 + FB + k, with F0, FB >= 1.
+        for loops_b in range(1, loops):
+            loops_0 = loops - loops_b
+            for k in range(0, dof - 1):
+                for dof_b in range(1, dof - k):
+                    dof_0 = dof - k - dof_b
+                    bases = self._all_chains(loops_0, dof_0)
+                    blocks = self._two_connected(loops_b, dof_b)
+                    if not bases or not blocks:
+                        continue
+                    block_sites = [(b, automorphisms(*b).orbits) for b in blocks]
+                    for index, base in enumerate(bases):
+                        self._report(f"{links} links, DOF {dof}: cut-link chains from base {index + 1}/{len(bases)}")
+                        for u, *_ in automorphisms(*base).orbits:
+                            for block, orbits in block_sites:
+                                for c, *_ in orbits:
+                                    child = _glue(base, u, block, c, k)
+                                    found.setdefault(self._key(child), child)
+        result = self._finish(found)
+        self._all[key] = result
+        self._report(f"{links} links, DOF {dof}: {len(result)} chains in all", force=True)
+        return result
+
+
+_DEFAULT = ChainGenerator()
+
+
+def atlas(links: int, dof: int, include_fractionated: bool = False) -> list[Graph]:
+    """Edge lists of all chains, from the process-wide generator (each atlas built once)."""
+    return _DEFAULT.chains(links, dof, include_fractionated)
+
+
+def clear_cache() -> None:
+    """Forget every atlas built so far (benchmarks time cold runs with it)."""
+    _DEFAULT._blocks.clear()
+    _DEFAULT._all.clear()
+
+
+def generate(
+    links: int,
+    dof: int,
+    include_fractionated: bool = False,
+    isomorphism: str = "nauty",
+    progress: ProgressFn | None = None,
+) -> list[Graph]:
+    """Edge lists of all chains (see :class:`ChainGenerator`); cached per process for nauty."""
+    if isomorphism == "nauty" and progress is None:
+        return atlas(links, dof, include_fractionated)
+    return ChainGenerator(isomorphism=isomorphism, progress=progress).chains(links, dof, include_fractionated)
+
+
+def chains_from_edges(graphs: Iterable[Graph]):
+    """Wrap edge lists as :class:`domes.model.chain.Chain` objects."""
+    from domes.model.chain import Chain
+
+    return [Chain(n, edges) for n, edges in graphs]
+
+
+def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism: str = "nauty", progress: ProgressFn | None = None):
+    """Every non-isomorphic, non-degenerate planar chain of revolute joints.
+
+    Chains with a cut link (fractionated) are left out unless
+    ``include_fractionated``. Returns :class:`~domes.model.chain.Chain`
+    objects, canonically labelled, sorted by link assortment.
+
+    >>> len(chains(links=10, dof=1))
+    230
+    >>> len(chains(links=9, dof=2, include_fractionated=True))
+    40
+    """
+    return chains_from_edges(generate(links, dof, include_fractionated, isomorphism, progress))

@@ -1,0 +1,91 @@
+"""The mechanism file format, its validation, and building from a labelled candidate."""
+
+import json
+import math
+
+import pytest
+
+from domes.errors import DomesError
+from domes.motion import from_labelled, load_mechanism, mechanism_from_dict, mechanism_to_dict, solve
+from domes.model import LabelledChain
+from kinematics_cases import EXAMPLES, example
+
+BASE = {"links": ["g", "a", "b", "c"], "ground": "g",
+        "joints": [{"name": "A", "type": "R", "links": ["g", "a"], "at": [0, 0]},
+                   {"name": "B", "type": "R", "links": ["a", "b"], "at": [1, 0]},
+                   {"name": "C", "type": "R", "links": ["b", "c"], "at": [2, 2]},
+                   {"name": "D", "type": "R", "links": ["c", "g"], "at": [3, 0]}],
+        "inputs": [{"joint": "A"}]}
+
+
+def _with(**changes):
+    d = json.loads(json.dumps(BASE))
+    d.update(changes)
+    return d
+
+
+@pytest.mark.parametrize("data,message", [
+    (_with(joints=BASE["joints"][:3] + [{"name": "D", "type": "R", "links": ["c", "x"], "at": [3, 0]}]),
+     r"joints\[3\]|joint 'D': link 'x'"),
+    (_with(inputs=[{"joint": "Z"}]), "inputs: joint 'Z'"),
+    (_with(inputs=[]), "1 degree\\(s\\) of freedom .* but 0 input"),
+    (_with(ground="q"), "ground: 'q'"),
+    (_with(joints=BASE["joints"][:3] + [{"name": "D", "type": "R", "links": ["c", "g"], "at": [3, "x"]}]),
+     r"joints\[3\]\.at\[1\]: expected a finite number"),
+    (_with(joints=BASE["joints"][:3] + [{"name": "D", "type": "G", "links": ["c", "g"], "at": [3, 0]}]),
+     "type 'G' is not supported"),
+    (_with(extra=1), r"unknown field\(s\) \['extra'\]"),
+    (_with(angle_unit="grad"), "angle_unit"),
+    (_with(joints=BASE["joints"] + [{"name": "E", "type": "P", "links": ["a", "c"], "at": [1, 1], "origin": [0, 0],
+                                     "direction": 0}]), "origin .* off the slide line"),
+])
+def test_bad_input_names_the_field(data, message):
+    with pytest.raises(DomesError, match=message):
+        mechanism_from_dict(data, "m.json")
+
+
+def test_bad_json_names_the_line(tmp_path):
+    path = tmp_path / "bad.json"
+    path.write_text('{\n "links": ["g",\n}\n')
+    with pytest.raises(DomesError, match=r"bad.json: line 3"):
+        load_mechanism(str(path))
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.json")))
+def test_round_trip(name):
+    m = example(name)
+    again = mechanism_from_dict(json.loads(json.dumps(mechanism_to_dict(m))), name)
+    assert [(j.name, j.kind, j.links, j.at, j.origin) for j in again.joints] == \
+        [(j.name, j.kind, j.links, j.at, j.origin) for j in m.joints]
+    assert [j.direction for j in again.joints] == pytest.approx([j.direction for j in m.joints], abs=1e-15)
+    # pytest.approx compares flat sequences only (pytest >= 9.2 refuses nested ones)
+    rates = lambda mech: [x for i in mech.inputs for x in (i.speed, i.acceleration)]  # noqa: E731
+    assert rates(again) == pytest.approx(rates(m))
+    assert dict(again.link_angles) == pytest.approx(dict(m.link_angles), abs=1e-15)
+    assert (again.points, again.polygons) == (m.points, m.polygons)
+
+
+def test_from_labelled_candidate_matches_the_file():
+    # A LabelledChain (links 0..3, 0 = ground, 1 = input) plus joint coordinates gives the four-bar of four-bar.json.
+    chain = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (3, 0)], roles={0: {"ground"}, 1: {"input"}})
+    at = {(0, 1): (0, 0), (1, 2): (1, 0), (2, 3): (3.5, math.sqrt(6)), (0, 3): (3, 0)}
+    m = from_labelled(chain, at)
+    ref = example("four-bar.json")
+    a = solve(m, 1.0, outputs=["point:J2-3"], order=0).values
+    b = solve(ref, 1.0, outputs=["point:C"], order=0).values
+    assert (a["point:J2-3.x"], a["point:J2-3.y"]) == pytest.approx((b["point:C.x"], b["point:C.y"]), abs=1e-12)
+
+
+def test_from_labelled_with_a_slider():
+    chain = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)], {(0, 3): "P"},
+                                roles={0: {"ground"}, 1: {"input"}})
+    x = math.sqrt(9 - 1)
+    m = from_labelled(chain, {(0, 1): (0, 0), (1, 2): (0, 1), (2, 3): (x, 0), (0, 3): (x, 0)}, {(0, 3): 0.0})
+    v = solve(m, 0.0, outputs=["slide:J0-3"], order=0).values
+    assert v["slide:J0-3"] == pytest.approx(4.0 - x, abs=1e-12)  # crank along x: pin at 1 + 3 = 4, s from the drawn x
+
+
+def test_from_labelled_refuses_other_joint_types():
+    chain = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)], {(2, 3): "H"}, roles={0: {"ground"}, 1: {"input"}})
+    with pytest.raises(DomesError, match="joint 2-3 has type 'H'"):
+        from_labelled(chain, {(0, 1): (0, 0), (1, 2): (0, 1), (2, 3): (3, 0), (0, 3): (3, 0)})

@@ -1,0 +1,124 @@
+"""``domes chains`` and ``domes chain`` from the command line."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import networkx as nx
+import pytest
+
+from domes.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def run(capsys, *argv):
+    status = main(list(argv))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_count(capsys):
+    assert run(capsys, "chains", "--links", "10", "--dof", "1", "--count") == (0, "230\n", "")
+    assert run(capsys, "chains", "--links", "9", "--dof", "2", "--include-fractionated", "--count")[1] == "40\n"
+    assert run(capsys, "chains", "--loops", "4", "--dof", "0", "--count")[1] == "28\n"
+
+
+def test_graph6_is_read_back_by_networkx(capsys):
+    status, out, _ = run(capsys, "chains", "--links", "8", "--dof", "1", "--format", "graph6")
+    graphs = [nx.from_graph6_bytes(line.encode()) for line in out.split()]
+    assert status == 0 and len(graphs) == 16
+    assert all(g.number_of_nodes() == 8 and g.number_of_edges() == 10 for g in graphs)
+
+
+def test_json_has_the_properties(capsys):
+    status, out, _ = run(capsys, "chains", "--links", "7", "--dof", "2", "--include-fractionated", "--format", "json")
+    data = json.loads(out)
+    assert status == 0 and data["count"] == 4 and len(data["chains"]) == 4
+    assert sorted(c["dof_type"] for c in data["chains"]) == ["fractionated", "partial", "partial", "total"]
+    assert [c["id"] for c in data["chains"]] == [1, 2, 3, 4]
+
+
+def test_text_lists_k_for_basic_chains(capsys):
+    status, out, _ = run(capsys, "chains", "--links", "9", "--dof", "0")
+    rows = [line for line in out.splitlines() if not line.startswith("#")]
+    assert status == 0 and len(rows) == 28
+    assert sum(line.endswith("K=2") for line in rows) == 4
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["chains", "--links", "5", "--dof", "1"], "not an integer"),
+        (["chains", "--links", "6", "--dof", "-1"], ">= 0"),
+        (["chains", "--links", "3", "--dof", "2"], "no closed loop"),
+        (["chains", "--loops", "0", "--dof", "1"], "--loops"),
+        (["chain", "@@@"], "graph6"),
+    ],
+)
+def test_bad_requests_exit_2(capsys, argv, message):
+    status, out, err = run(capsys, *argv)
+    assert status == 2 and out == "" and message in err
+
+
+def test_large_atlas_asks_first():
+    # 14 links and up: without --yes and without a terminal the request is refused, saying how large.
+    proc = subprocess.run(
+        [sys.executable, "-m", "domes", "chains", "--links", "14", "--dof", "1"],
+        cwd=ROOT, capture_output=True, text=True, stdin=subprocess.DEVNULL, timeout=120,
+    )
+    assert proc.returncode == 2
+    assert "very large" in proc.stderr and "--yes" in proc.stderr and "chains" in proc.stderr
+
+
+def test_chain_reports_a_rigid_subchain(capsys):
+    dumbbell = nx.to_graph6_bytes(nx.Graph([(0, 1), (1, 2), (2, 0), (2, 3), (3, 4), (4, 5), (5, 3)]), header=False)
+    status, out, _ = run(capsys, "chain", dumbbell.decode().strip(), "--format", "json")
+    record = json.loads(out)[0]
+    assert status == 0 and record["degenerate"] and len(record["rigid_subchain"]) == 3
+
+
+def test_python_dash_m_and_progress():
+    proc = subprocess.run(
+        [sys.executable, "-m", "domes", "chains", "--links", "10", "--dof", "1", "--count", "--progress"],
+        cwd=ROOT, capture_output=True, text=True, timeout=120,
+    )
+    assert proc.returncode == 0 and proc.stdout == "230\n"
+    assert "230 chains" in proc.stderr  # the final progress line of the stage
+
+
+def test_synthesis_cli(capsys):
+    status, out, _ = run(capsys, "synthesis", "--dof", "1", "--loops", "3", "--format", "json")
+    data = json.loads(out)
+    assert status == 0 and (data["links"], data["joints"]) == (8, 10) and len(data["assortments"]) == 3
+
+
+def test_ctrl_c_stops_cleanly():
+    # A long run (the 12-link atlas) interrupted by SIGINT exits 130 with a one-line message.
+    import signal
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "domes", "chains", "--links", "12", "--dof", "1", "--count", "--progress"],
+        cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    first = proc.stderr.readline()  # the generator is at work once it reports progress
+    assert first.startswith("...")
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and "Traceback" not in err and out == ""
+
+
+@pytest.mark.parametrize("answer, built", [("n", False), ("yes", True)])
+def test_large_atlas_confirmation_on_a_terminal(monkeypatch, answer, built):
+    from domes.cli import chains as cli
+    from domes.errors import DomesError
+
+    monkeypatch.setattr(sys.stdin, "isatty", lambda: True)
+    monkeypatch.setattr("builtins.input", lambda prompt: answer)
+    if built:
+        cli._confirm_large(14, 1, False)  # returns: go ahead
+    else:
+        with pytest.raises(DomesError, match="not built"):
+            cli._confirm_large(14, 1, False)
