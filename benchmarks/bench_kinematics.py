@@ -23,7 +23,8 @@ import mpmath
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from domes.motion import Input, Joint, Kinematics, Mechanism, accuracy, load_mechanism  # noqa: E402
+from domes.io.mechanisms import load_mechanism  # noqa: E402
+from domes.motion import Input, Joint, Kinematics, Mechanism, accuracy  # noqa: E402
 from domes.motion.planar.checks import output_range  # noqa: E402
 from domes.motion.planar.examples import four_bar, triple_rocker  # noqa: E402
 from domes.motion.planar.structure import evaluate  # noqa: E402

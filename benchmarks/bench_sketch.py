@@ -16,20 +16,31 @@ polyline, relative to the mechanism's size and in pixels of a 400-px drawing.
 
 from __future__ import annotations
 
+import math
 import os
 import statistics
 import sys
-import math
 import time
 
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from domes.typesynth import chains  # noqa: E402
-from domes.motion import load_mechanism, sweep  # noqa: E402
-from domes.typesynth import load_scene, regenerate  # noqa: E402
-from domes.sketch import chain_atlas_html, coupler_curves, dimensioned_svg, layout_quality, regeneration_html, skeleton_layout  # noqa: E402
+from domes.io.mechanisms import load_mechanism
+from domes.io.scenes import load_scene
+from domes.motion import sweep  # noqa: E402
+from domes.sketch import (  # noqa: E402
+    chain_atlas_html,
+    coupler_curves,
+    dimensioned_svg,
+    layout_quality,
+    regeneration_html,
+    skeleton_layout,
+)
+from domes.typesynth import (
+    chains,  # noqa: E402
+    regenerate,  # noqa: E402
+)
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "mechanisms")
 CURVES = [("four-bar.json", "P"), ("eight-bar-class-iv.json", "K"), ("swing-arm-shock.json", "axle")]

@@ -22,9 +22,8 @@ Example
 """
 
 from domes.errors import DomesError
-from domes.typesynth import NumberSynthesis, link_assortments, number_synthesis
 from domes.model import Chain, chain_properties
-from domes.typesynth import chains
+from domes.typesynth import NumberSynthesis, chains, link_assortments, number_synthesis
 
 __version__ = "0.1.0"
 

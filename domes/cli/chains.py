@@ -6,10 +6,11 @@ import argparse
 import json
 import sys
 
-from domes.model.chain import Chain
-from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator
+from domes.cli.common import progress_printer
 from domes.errors import InputError
-from domes.typesynth.number import chain_joints
+from domes.model.chain import Chain
+from domes.model.mobility import chain_joints
+from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator
 
 #: Atlases from this many links on are very large: ask before building them.
 LARGE_ATLAS_LINKS = 14
@@ -56,14 +57,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.set_defaults(func=run_chain)
 
 
-def _progress_printer(enabled: bool | None):
-    if enabled is None:
-        enabled = sys.stderr.isatty()
-    if not enabled:
-        return None
-    return lambda message: print(f"... {message}", file=sys.stderr, flush=True)
-
-
 def _confirm_large(links: int, dof: int, include_fractionated: bool) -> None:
     base = links
     while base > 10:
@@ -104,7 +97,7 @@ def run_chains(args: argparse.Namespace) -> int:
         raise InputError(f"{links} links with DOF {args.dof} have {joints} joints and no closed loop; use more links")
     if links >= LARGE_ATLAS_LINKS and not args.yes:
         _confirm_large(links, args.dof, args.include_fractionated)
-    generator = ChainGenerator(isomorphism=args.isomorphism, progress=_progress_printer(args.progress))
+    generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress))
     graphs = generator.chains(links, args.dof, args.include_fractionated)
     atlas = [Chain(n, edges) for n, edges in graphs]
     if args.count:
@@ -121,7 +114,7 @@ def run_chains(args: argparse.Namespace) -> int:
     elif args.format == "json":
         records = []
         for index, chain in enumerate(atlas, 1):
-            records.append({"id": index, **chain.as_dict()})
+            records.append({"id": index, **chain.to_dict()})
         json.dump(
             {
                 "links": links,
@@ -153,11 +146,11 @@ def run_chain(args: argparse.Namespace) -> int:
     texts = [line for g in args.graph6 for line in (sys.stdin.read().split() if g == "-" else [g])]
     chains = [Chain.from_graph6(t) for t in texts]
     if args.format == "json":
-        json.dump([c.as_dict() for c in chains], sys.stdout, indent=1)
+        json.dump([c.to_dict() for c in chains], sys.stdout, indent=1)
         sys.stdout.write("\n")
         return 0
     for text, chain in zip(texts, chains):
-        d = chain.as_dict()
+        d = chain.to_dict()
         print(f"{text}: {d['links']} links, {d['joints']} joints, {d['loops']} loops, DOF {d['dof']}")
         print(f"  assortment {d['assortment']}   DOF type {d['dof_type']}   |Aut| = {d['automorphism_group_order']}")
         print(f"  link orbits {d['link_orbits']}   cut links {d['cut_links'] or 'none'}")

@@ -10,12 +10,16 @@ import tempfile
 from pathlib import Path
 
 from domes.errors import InputError
-from domes.expert.replay import record, replay, scratch_casebase
-from domes.expert.dialogue import Session, read_answers, write_transcript
+from domes.expert.dialogue import Dialogue
+from domes.expert.replay import record_case, replay, scratch_casebase, shipped_cases
 from domes.expert.world import frame_text
+from domes.io.transcripts import (
+    load_session,
+    read_answers,
+    save_session,
+    write_transcript,
+)
 from domes.store.casebase import DB_ENV, KnowledgeBase
-from domes.io.topology import write_atomic
-from domes.io.resources import knowledge_dir
 
 STATE = ".domes-design-session.json"
 
@@ -65,31 +69,28 @@ def run_design(args: argparse.Namespace) -> int:
     if args.answers:
         answers, interactive = read_answers(args.answers), False
     if args.resume:
-        state = Path(args.resume)
-        if not state.is_file():
-            raise InputError(f"no saved session at {state}")
-        answers = [(e["question"], e["answer"]) for e in json.loads(state.read_text(encoding="utf-8"))["exchanges"]]
-        print(f"Resuming the session saved in {state} ({len(answers)} answers).")
+        answers = load_session(args.resume)
+        print(f"Resuming the session saved in {args.resume} ({len(answers)} answers).")
     with tempfile.TemporaryDirectory(prefix="domes-dry-run-") as tmp:
         url = scratch_casebase(args.db, None, Path(tmp)) if args.dry_run else args.db
         if args.dry_run:
             print("Dry run: a scratch copy of the case base; nothing is kept.")
-        status = _design(args, Session(url, answers, interactive=interactive or bool(args.resume), vary=not args.no_vary))
+        status = _design(args, Dialogue(url, answers, interactive=interactive or bool(args.resume), vary=not args.no_vary))
         if args.dry_run:
             print("Dry run: the case base is unchanged.")
         return status
 
 
-def _design(args: argparse.Namespace, session: Session) -> int:
+def _design(args: argparse.Namespace, dialogue: Dialogue) -> int:
     try:
-        outcome = session.run()
+        outcome = dialogue.run()
     except (KeyboardInterrupt, EOFError):
-        write_atomic(Path(args.state), json.dumps({"exchanges": session.exchanges}, indent=1) + "\n")
-        print(f"\ndomes design: interrupted; {len(session.exchanges)} answers saved in {args.state} "
+        save_session(args.state, dialogue.exchanges)
+        print(f"\ndomes design: interrupted; {len(dialogue.exchanges)} answers saved in {args.state} "
               f"(resume with: domes design --resume {args.state})", file=sys.stderr)
         return 128 + signal.SIGINT
     if args.record:
-        write_transcript(args.record, outcome)
+        write_transcript(args.record, outcome.to_dict())
         print(f"Transcript written to {args.record}.")
     if args.resume and Path(args.resume).name == STATE:
         Path(args.resume).unlink(missing_ok=True)
@@ -110,7 +111,7 @@ def run_show(args: argparse.Namespace) -> int:
     with KnowledgeBase(args.db) as kb:
         frame = kb.get_problem(args.id)
     if args.format == "json":
-        print(json.dumps(frame.to_mapping(), indent=1, ensure_ascii=False))
+        print(json.dumps(frame.to_dict(), indent=1, ensure_ascii=False))
     else:
         print(frame_text(frame))
     return 0
@@ -119,7 +120,7 @@ def run_show(args: argparse.Namespace) -> int:
 def run_replay(args: argparse.Namespace) -> int:
     names = list(args.cases)
     if args.all:
-        names += sorted(p.stem for p in (knowledge_dir() / "cases").glob("*.json"))
+        names += shipped_cases()
     if not names:
         raise InputError("name the cases to replay, or give --all")
     failed = 0
@@ -136,13 +137,7 @@ def run_replay(args: argparse.Namespace) -> int:
 
 
 def run_record(args: argparse.Namespace) -> int:
-    answers = read_answers(args.answers)
-    target = knowledge_dir() / "cases" / f"{args.name}.json"
-    previous = json.loads(target.read_text(encoding="utf-8"))["frame"]["id"] if target.is_file() else None
-    outcome = record(answers, previous, args.db, say=print)
-    if outcome.frame is None:
-        raise InputError("the session ended without a result to keep")
-    write_transcript(target, outcome)
+    _, target = record_case(read_answers(args.answers), args.name, args.db, say=print)
     print(f"Case written to {target}; rebuild the case base with `domes kb build`.")
     return 0
 

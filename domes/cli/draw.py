@@ -5,14 +5,14 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import sys
-import tempfile
 
-from domes.model.chain import Chain
-from domes.errors import InputError
-from domes.motion import PRESETS, load_mechanism
+from domes.cli.common import write_output
 from domes.cli.kinematics import parse_sweep
+from domes.errors import InputError
+from domes.io.mechanisms import load_mechanism
 from domes.model import JOINT_TYPES, LabelledChain
+from domes.model.chain import Chain
+from domes.motion import PRESETS
 from domes.sketch.atlas import Card, atlas_html, chain_card, mechanism_card
 from domes.sketch.dimensioned import dimensioned_svg
 from domes.sketch.layout import skeleton_layout
@@ -83,23 +83,6 @@ def labelled_from_args(chain: Chain, args: argparse.Namespace) -> LabelledChain 
     return LabelledChain.build(chain.n, chain.edges, types, roles)
 
 
-def write_text(text: str, path: str | None) -> None:
-    """Write to standard output, or atomically to ``path`` (temporary file, then rename)."""
-    if path is None:
-        sys.stdout.write(text)
-        return
-    directory = os.path.dirname(os.path.abspath(path))
-    handle, temporary = tempfile.mkstemp(dir=directory, prefix=".draw-", suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as out:
-            out.write(text)
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
-
-
 def _size(given: float | None, default: float) -> float:
     size = default if given is None else given
     if not 40 <= size <= 4000:
@@ -121,9 +104,9 @@ def run_draw(args: argparse.Namespace) -> int:
     else:
         card = mechanism_card(args.graph6, labelled, title=f"mechanism on chain {args.graph6}", size=args.size)
     if args.format == "html":
-        write_text(atlas_html([card], card.title), args.output)
+        write_output(atlas_html([card], card.title), args.output)
     else:
-        write_text(card.svg + "\n", args.output)
+        write_output(card.svg + "\n", args.output)
     return 0
 
 
@@ -140,7 +123,7 @@ def draw_mechanism_file(args: argparse.Namespace) -> int:
     svg = dimensioned_svg(mech, q, coupler=args.coupler, span=span, accuracy=args.accuracy, size=size, dimensions=args.dimensions)
     if args.format == "html":
         card = Card(os.path.basename(args.graph6), mech.name, svg, (("file", args.graph6), ("traced", " ".join(args.coupler) or "none")))
-        write_text(atlas_html([card], mech.name), args.output)
+        write_output(atlas_html([card], mech.name), args.output)
     else:
-        write_text(svg + "\n", args.output)
+        write_output(svg + "\n", args.output)
     return 0

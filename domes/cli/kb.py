@@ -7,18 +7,19 @@ import json
 import sys
 from pathlib import Path
 
+from domes.cli.common import write_output
 from domes.errors import DomesError, InputError
-from domes.language.explain import explain
-from domes.knowledge.frames import CriterionFrame
-from domes.language.parse import normalise_name, parse_criterion, parse_relevance
-from domes.knowledge.relevance import Problem, relevance_vector
-from domes.language.render import render_criterion, render_relevance
-from domes.knowledge.screening import screen
-from domes.io.criteria import FORMATS, check_unique, dumps_json, dumps_toml, read_file, write_atomically
-from domes.store.casebase import DB_ENV, KnowledgeBase, build
+from domes.io.criteria import FORMATS, check_unique, dumps_json, dumps_toml, read_file
+from domes.io.graphs import parse_labelled_graphs, read_labelled_graphs
 from domes.io.resources import KNOWLEDGE_ENV
+from domes.knowledge.frames import CriterionFrame
+from domes.knowledge.relevance import Problem, relevance_vector
+from domes.knowledge.screening import screen
+from domes.language.explain import explain
+from domes.language.parse import parse_criterion, parse_relevance
+from domes.language.render import render_criterion, render_relevance
 from domes.language.tree import category, to_json
-from domes.model import LabelledChain
+from domes.store.casebase import DB_ENV, KnowledgeBase, build
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -118,7 +119,7 @@ def run_list(args: argparse.Namespace) -> int:
     with KnowledgeBase(args.db) as kb:
         frames = kb.frames()
     if args.format == "json":
-        json.dump([f.to_mapping() for f in frames], sys.stdout, ensure_ascii=False, indent=1)
+        json.dump([f.to_dict() for f in frames], sys.stdout, ensure_ascii=False, indent=1)
         sys.stdout.write("\n")
         return 0
     width = max([len(f.id) for f in frames] + [2])
@@ -133,7 +134,7 @@ def run_list(args: argparse.Namespace) -> int:
 def run_show(args: argparse.Namespace) -> int:
     with KnowledgeBase(args.db) as kb:
         frame = kb.get(args.id)
-    data = frame.to_mapping()
+    data = frame.to_dict()
     if args.format == "json":
         data["tree"] = to_json(frame.tree)
         data["relevance_tree"] = to_json(frame.relevance)
@@ -200,11 +201,9 @@ def run_export(args: argparse.Namespace) -> int:
     with KnowledgeBase(args.db) as kb:
         frames = kb.frames()
     text = dumps_json(frames) if fmt == "json" else dumps_toml(frames)
+    write_output(text, args.output)
     if args.output:
-        write_atomically(args.output, text)
         print(f"exported {len(frames)} criteria to {args.output}", file=sys.stderr)
-    else:
-        sys.stdout.write(text)
     return 0
 
 
@@ -228,22 +227,9 @@ def run_check(args: argparse.Namespace) -> int:
             check_unique(frames, name)
         print(f"ok: {len(frames)} criteria in {len(args.files)} file(s)")
         return 0
-    problems = []
     with KnowledgeBase(args.db) as kb:
         frames = kb.frames()
-    for frame in frames:
-        try:
-            fresh = CriterionFrame.create(
-                frame.id, frame.text, frame.explanation, frame.keywords, frame.relevance_text, frame.level,
-                frame.source, frame.date, frame.enabled,
-            )
-        except DomesError as exc:
-            problems.append(f"{frame.id}: {exc}")
-            continue
-        if fresh.tree != frame.tree:
-            problems.append(f"{frame.id}: the stored tree differs from the parse of its text")
-        if fresh.relevance != frame.relevance:
-            problems.append(f"{frame.id}: the stored relevance differs from the parse of its relevance text")
+        problems = kb.check()
     if problems:
         raise InputError(f"{len(problems)} problem(s) in the knowledge base:\n  " + "\n  ".join(problems))
     print(f"ok: {len(frames)} criteria parse as stored")
@@ -265,37 +251,14 @@ def _problem(text: str) -> Problem:
         raise InputError(f"problem: not a JSON object or .json file: {exc}") from None
     if not isinstance(data, dict):
         raise InputError("problem: expected a JSON object of attributes")
-    return Problem.from_mapping(data)
-
-
-def read_labelled_graphs(text: str, where: str) -> list[LabelledChain]:
-    """Labelled graphs from JSON: a list of graphs (see :meth:`LabelledChain.from_dict`), or the
-    output of ``domes regenerate --format json`` (its candidates)."""
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{where}: not valid JSON: {exc}") from None
-    if isinstance(data, dict) and isinstance(data.get("candidates"), list):
-        data = data["candidates"]
-    if not isinstance(data, list):
-        raise InputError(f"{where}: expected a list of labelled graphs, or the output of domes regenerate --format json")
-    graphs = []
-    for index, item in enumerate(data):
-        graph = LabelledChain.from_dict(item, f"{where}: graph {index}")
-        roles = {v: [normalise_name(r) for r in names] for v, names in enumerate(graph.roles)}
-        loops = {normalise_name(name): links for name, links in graph.named_loops}
-        graphs.append(LabelledChain.build(graph.n, graph.edges, graph.joint_types, roles, loops))
-    return graphs
+    return Problem.from_dict(data)
 
 
 def run_screen(args: argparse.Namespace) -> int:
     if args.graphs == "-":
-        graphs = read_labelled_graphs(sys.stdin.read(), "stdin")
+        graphs = parse_labelled_graphs(sys.stdin.read(), "stdin")
     else:
-        try:
-            graphs = read_labelled_graphs(Path(args.graphs).read_text(encoding="utf-8"), args.graphs)
-        except OSError as exc:
-            raise InputError(f"{args.graphs}: cannot read: {exc.strerror}") from None
+        graphs = read_labelled_graphs(args.graphs)
     problem = _problem(args.problem) if args.problem else None
     with KnowledgeBase(args.db) as kb:
         frames = kb.frames()

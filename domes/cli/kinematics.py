@@ -12,7 +12,7 @@ import math
 import sys
 
 from domes.errors import InputError
-from domes.model.mechanism import load_mechanism
+from domes.io.mechanisms import load_mechanism
 from domes.motion.planar.query import PRESETS, Kinematics, accuracy
 from domes.motion.planar.sweep import run_sweep
 

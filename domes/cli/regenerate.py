@@ -6,11 +6,10 @@ import argparse
 import json
 import sys
 
-from domes.model.chain import Chain
-from domes.typesynth.atlas import atlas
+from domes.cli.common import progress_printer
+from domes.io.scenes import load_scene
+from domes.io.topology import read_topology, to_mtm, type_matrix
 from domes.typesynth.generalize import generalize
-from domes.io.topology import Mechanism
-from domes.typesynth.scene import load_scene
 from domes.typesynth.regenerate import Regeneration, regenerate
 
 
@@ -41,7 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _roles_text(candidate) -> str:
-    m = candidate.mechanism
+    m = candidate.labelled
     by_role: dict[str, list[int]] = {}
     for v, roles in enumerate(m.roles):
         for r in roles:
@@ -61,33 +60,33 @@ def print_regeneration(result: Regeneration, new_only: bool, out=sys.stdout) -> 
         out.write(f"  {s.name:<34s} {s.count:>6d} {book:>6s} {s.raw:>8d} {n:>6.2f}\n")
     if scene.book_note:
         out.write(f"  book: {scene.book_note}\n")
+
+    def named(i: int) -> str:
+        name = result.chain_name(i)
+        return f" ({name})" if name else ""
+
     existing = [c for c in result.candidates if c.existing]
-    chains = atlas(scene.links, scene.dof, scene.include_fractionated)
-    names = {i: f" ({Chain(n, e).common_name})" for i, (n, e) in enumerate(chains, 1) if Chain(n, e).common_name}
-    per_chain = {}
-    for c in result.candidates:
-        per_chain[c.chain_index] = per_chain.get(c.chain_index, 0) + 1
-    split = ", ".join(f"chain {i}{names.get(i, '')}: {k}" for i, k in sorted(per_chain.items()))
+    split = ", ".join(f"chain {i}{named(i)}: {k}" for i, k in result.per_chain().items())
     out.write(f"\n{len(result.candidates)} candidates ({split}), {len(existing)} existing, {len(result.candidates) - len(existing)} new\n")
     for c in result.candidates:
         if new_only and c.existing:
             continue
-        m = c.mechanism
+        m = c.labelled
         special = " ".join(f"{u}-{v}:{t}" for (u, v), t in zip(m.edges, m.joint_types) if t != "R")
         flag = f"  EXISTING ({'; '.join(c.existing)})" if c.existing else ""
         joints = " ".join(f"{u}-{v}" for u, v in m.edges)
-        out.write(f"  {c.id:3d}  chain {c.chain_index}{names.get(c.chain_index, '')}  {_roles_text(c)}  [{special}]  joints {joints}{flag}\n")
+        out.write(f"  {c.id:3d}  chain {c.chain_index}{named(c.chain_index)}  {_roles_text(c)}  [{special}]  joints {joints}{flag}\n")
 
 
 def run_regenerate(args: argparse.Namespace) -> int:
-    scene = load_scene(args.scene)
-    progress = (lambda m: print(f"... {m}", file=sys.stderr)) if sys.stderr.isatty() else None
-    result = regenerate(scene, progress)
+    result = regenerate(load_scene(args.scene), progress_printer())
     if args.format == "json":
-        json.dump(result.as_dict(new_only=args.new_only), sys.stdout, indent=1)
+        json.dump(result.to_dict(new_only=args.new_only), sys.stdout, indent=1)
         sys.stdout.write("\n")
     elif args.format == "html":
-        from domes.sketch.atlas import regeneration_html  # the drawing stage, loaded only when asked
+        from domes.sketch.atlas import (
+            regeneration_html,  # the drawing stage, loaded only when asked
+        )
 
         sys.stdout.write(regeneration_html(result, new_only=args.new_only))
     else:
@@ -96,37 +95,20 @@ def run_regenerate(args: argparse.Namespace) -> int:
 
 
 def run_generalize(args: argparse.Namespace) -> int:
-    mechanism = Mechanism.load(args.file)
+    mechanism = read_topology(args.file)
     if args.format == "mtm":
-        print(mechanism.to_mtm())
+        print(to_mtm(mechanism))
         return 0
     if args.format == "type":
-        print(mechanism.type_matrix())
+        print(type_matrix(mechanism))
         return 0
     g = generalize(mechanism)
-    chain = g.unlabelled
-    position = None
-    if chain.dof >= 0 and chain.loops >= 1 and chain.is_connected and not chain.is_degenerate:
-        listed = atlas(chain.n, chain.dof, include_fractionated=True)
-        position = next((i for i, (n, e) in enumerate(listed, 1) if Chain(n, e) == chain), None)
-    record = {
-        "mechanism": mechanism.name,
-        "links": chain.n,
-        "joints": chain.joints,
-        "dof": chain.dof,
-        "loops": chain.loops,
-        "link_names": list(g.link_names),
-        "edges": [list(e) for e in g.chain.edges],
-        "marks": g.marks,
-        "chain": chain.common_name,
-        "atlas_position": position,
-        "degenerate": chain.is_degenerate,
-        "graph6": chain.graph6,
-    }
+    record = g.to_dict()
     if args.format == "json":
         json.dump(record, sys.stdout, indent=1)
         sys.stdout.write("\n")
         return 0
+    chain, position = g.unlabelled, record["atlas_position"]
     print(f"{mechanism.name}: generalized chain of {chain.n} links, {chain.joints} joints, DOF {chain.dof}, {chain.loops} loops")
     if record["chain"]:
         print(f"  the {record['chain']} chain")

@@ -5,70 +5,30 @@ transcript), or from a scripted list and then the terminal (resuming an
 interrupted session). A bad answer is never fatal: the reason is shown and
 the question asked again (in a script, the next line must answer it).
 
-Answers file format: one ``question: answer`` per line (``#`` comments);
-see ``examples/design/*.answers``.
-
->>> parse_answers("# motorcycle\\nclass: motorcycle rear suspension\\ndof: 1\\n")
-[('class', 'motorcycle rear suspension'), ('dof', '1')]
+The answers files and transcripts are read and written by
+:mod:`domes.io.transcripts`.
 """
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Callable
 
 from domes.errors import DomesError, InputError
 from domes.expert.engine import DesignExpert
-from domes.expert.questions import STATIC, Question, overrides_parser, parse_scene, relation_parser, verify_parser
-from domes.model.labelled import LabelledChain
+from domes.expert.questions import (
+    STATIC,
+    Question,
+    overrides_parser,
+    parse_scene_answer,
+    relation_parser,
+    verify_parser,
+)
 from domes.expert.world import World
+from domes.io.scenes import scene_names
+from domes.io.transcripts import TRANSCRIPT_FORMAT
 from domes.knowledge.problems import ProblemFrame
-from domes.io.topology import write_atomic
-from domes.typesynth.scene import scene_names
-
-TRANSCRIPT_FORMAT = "domes-design-transcript/1"
-
-
-def parse_answers(text: str, where: str = "answers") -> list[tuple[str, str]]:
-    """``question: answer`` lines (comments and blank lines skipped)."""
-    out = []
-    for number, line in enumerate(text.splitlines(), 1):
-        stripped = line.strip()
-        if not stripped or stripped.startswith("#"):
-            continue
-        if ":" not in stripped:
-            raise InputError(f"{where}:{number}: expected 'question: answer', got {stripped!r}")
-        question, answer = stripped.split(":", 1)
-        out.append((question.strip(), answer.strip()))
-    return out
-
-
-def read_answers(path: str | Path) -> list[tuple[str, str]]:
-    """Answers from an answers file or from a transcript (``.json``)."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"cannot read {path}: {exc.strerror}") from None
-    if path.suffix == ".json":
-        data = load_transcript(path, text)
-        return [(e["question"], e["answer"]) for e in data["exchanges"]]
-    return parse_answers(text, str(path))
-
-
-def load_transcript(path: str | Path, text: str | None = None) -> dict:
-    path = Path(path)
-    try:
-        data = json.loads(text if text is not None else path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"cannot read {path}: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{path}: not valid JSON: {exc}") from None
-    if not isinstance(data, dict) or data.get("format") != TRANSCRIPT_FORMAT or not isinstance(data.get("exchanges"), list):
-        raise InputError(f"{path}: not a design transcript (format {TRANSCRIPT_FORMAT})")
-    return data
+from domes.model.labelled import LabelledChain
 
 
 @dataclass
@@ -80,17 +40,18 @@ class Outcome:
     frame: ProblemFrame | None
     exchanges: list[dict] = field(default_factory=list)
 
-    def transcript(self) -> dict:
+    def to_dict(self) -> dict:
+        """The transcript: answers, outcome and frame, as plain data (:func:`domes.io.transcripts.write_transcript`)."""
         return {
             "format": TRANSCRIPT_FORMAT,
             "relation": self.relation,
             "case": self.case,
             "exchanges": self.exchanges,
-            "frame": self.frame.to_mapping() if self.frame else None,
+            "frame": self.frame.to_dict() if self.frame else None,
         }
 
 
-class Session:
+class Dialogue:
     """One design dialogue against a case base (``url``: SQLAlchemy URL or path; None: the default)."""
 
     def __init__(
@@ -133,7 +94,7 @@ class Session:
             known = scene_names()
             default = default or next((s for s in known if slug == s or slug.startswith(s)), None)
             return Question("scene", f"Scene whose rules give the links their roles ({', '.join(known)}, or none)",
-                            parse_scene, default or "none")
+                            parse_scene_answer, default or "none")
         if qid == "verify":
             kept = {c["id"]: LabelledChain.from_dict(c) for c in self.world.run_result.kept}
             return Question("verify", "Verify dimensions? (none, or CANDIDATE FILE.json CHECK; CHECK is rotatability "
@@ -210,8 +171,3 @@ def rejected_text(world: World) -> str:
     for r in run.rejected:
         lines.append(f"  candidate {r['candidate']}: rejected by {r['criterion']} (level {r['level']}): {r['reason']}")
     return "\n".join(lines)
-
-
-def write_transcript(path: str | Path, outcome: Outcome) -> None:
-    """The session's transcript (answers, outcome, frame) as JSON, written atomically."""
-    write_atomic(Path(path), json.dumps(outcome.transcript(), indent=1, ensure_ascii=False) + "\n")

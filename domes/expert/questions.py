@@ -12,12 +12,17 @@ True
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any, Callable
 
-from domes.errors import DomesError, InputError
+from domes.design.verify import Check, matches
+from domes.errors import InputError
+from domes.io.mechanisms import load_mechanism
+from domes.io.resources import knowledge_dir
+from domes.io.scenes import scene_names
 from domes.language.parse import normalise_name, parse_criterion
 from domes.model.labelled import LabelledChain
-from domes.typesynth.scene import scene_names
+from domes.model.mechanism import Mechanism
 
 
 @dataclass(frozen=True)
@@ -76,7 +81,7 @@ def parse_names(text: str) -> frozenset[str]:
     return frozenset(names)
 
 
-def parse_scene(text: str) -> str | None:
+def parse_scene_answer(text: str) -> str | None:
     word = text.strip()
     if word.lower() in ("", "none", "-"):
         return None
@@ -146,20 +151,36 @@ STATIC = {
 }
 
 
+def mechanism_for(candidate: LabelledChain, path: str) -> Mechanism:
+    """The mechanism file for a kept candidate, checked to be that candidate.
+
+    A relative path is looked up in the working folder, then in the knowledge
+    folder (where the shipped cases' mechanisms are: ``mechanisms/NAME.json``).
+    """
+    found = Path(path)
+    if not found.is_file() and not found.is_absolute() and (knowledge_dir() / found).is_file():
+        found = knowledge_dir() / found
+    if not found.is_file():
+        raise InputError(f"no mechanism file {path!r} (looked in the working folder and in {knowledge_dir()})")
+    mech = load_mechanism(found)
+    if not matches(candidate, mech):
+        raise InputError(f"{path} is not this candidate: its chain, joint types or ground differ")
+    return mech
+
+
 def verify_parser(kept: dict[int, LabelledChain]):
     """``none``, or ``CANDIDATE FILE CHECK`` (see :mod:`domes.design.verify`)."""
-    from domes.design.verify import load_for, parse_check
 
     def parse(text: str):
         words = text.split()
         if not words or words == ["none"]:
             return None
         if len(words) < 3 or not words[0].isdigit():
-            raise InputError("answer none, or: CANDIDATE FILE CHECK (e.g. 2 examples/design/suzuki-rm250x.json range slide:g -10:10)")
+            raise InputError("answer none, or: CANDIDATE FILE CHECK (e.g. 2 mechanisms/suzuki-rm250x.json range slide:g -10:10)")
         candidate = int(words[0])
         if candidate not in kept:
             raise InputError(f"candidate {candidate} is not among those kept ({', '.join(map(str, sorted(kept)))})")
-        check = parse_check(words[2:])
-        return candidate, load_for(kept[candidate], words[1]), check, words[1]
+        check = Check.parse(words[2:])
+        return candidate, mechanism_for(kept[candidate], words[1]), check, words[1]
 
     return parse

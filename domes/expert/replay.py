@@ -18,9 +18,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from domes.errors import InputError
-from domes.expert.dialogue import Outcome, Session, load_transcript
-from domes.store.casebase import KnowledgeBase, build, database_url, sqlite_path
+from domes.expert.dialogue import Dialogue, Outcome
 from domes.io.resources import knowledge_dir
+from domes.io.transcripts import exchanges_answers, load_transcript, write_transcript
+from domes.store.casebase import KnowledgeBase, build, database_url, sqlite_path
 
 #: Frame fields that may differ between runs without the result changing.
 IGNORED = ("date",)
@@ -54,6 +55,11 @@ class Replay:
     differences: list[str]
 
 
+def shipped_cases() -> list[str]:
+    """The names of the shipped cases (``cases/NAME.json`` of the knowledge folder)."""
+    return sorted(p.stem for p in (knowledge_dir() / "cases").glob("*.json"))
+
+
 def case_path(name_or_path: str) -> Path:
     """A transcript by file path, or a shipped case by name (``knowledge/cases/NAME.json``)."""
     path = Path(name_or_path)
@@ -62,8 +68,7 @@ def case_path(name_or_path: str) -> Path:
     candidate = knowledge_dir() / "cases" / f"{name_or_path}.json"
     if candidate.is_file():
         return candidate
-    shipped = sorted(p.stem for p in (knowledge_dir() / "cases").glob("*.json"))
-    raise InputError(f"no case {name_or_path!r}: not a file, and not one of: {', '.join(shipped)}")
+    raise InputError(f"no case {name_or_path!r}: not a file, and not one of: {', '.join(shipped_cases())}")
 
 
 def scratch_casebase(url: str | None, leave_out: str | None, folder: Path) -> str:
@@ -90,9 +95,9 @@ def replay(name_or_path: str, url: str | None = None, say=lambda text: None) -> 
     leave_out = None if data.get("relation") == "same" else recorded.get("id")
     with tempfile.TemporaryDirectory(prefix="domes-replay-") as tmp:
         scratch = scratch_casebase(url, leave_out, Path(tmp))
-        answers = [(e["question"], e["answer"]) for e in data["exchanges"]]
-        outcome = Session(scratch, answers, interactive=False, out=say).run()
-    now = outcome.frame.to_mapping() if outcome.frame else {}
+        answers = exchanges_answers(data["exchanges"], path)
+        outcome = Dialogue(scratch, answers, interactive=False, out=say).run()
+    now = outcome.frame.to_dict() if outcome.frame else {}
     differences = frame_differences(recorded, now)
     if data.get("relation") != outcome.relation:
         differences.insert(0, f"relation: recorded {data.get('relation')!r}, now {outcome.relation!r}")
@@ -103,4 +108,19 @@ def record(answers: list[tuple[str, str]], case_id: str | None, url: str | None 
     """Run answers against a scratch copy of the case base (without ``case_id``), as a replay would."""
     with tempfile.TemporaryDirectory(prefix="domes-record-") as tmp:
         scratch = scratch_casebase(url, case_id, Path(tmp))
-        return Session(scratch, answers, interactive=False, out=say).run()
+        return Dialogue(scratch, answers, interactive=False, out=say).run()
+
+
+def record_case(answers: list[tuple[str, str]], name: str, url: str | None = None, say=lambda text: None) -> tuple[Outcome, Path]:
+    """Run answers as the shipped case ``NAME`` (``cases/NAME.json`` of the knowledge folder) and write its transcript.
+
+    The session runs against a scratch copy of the case base without the
+    case it replaces, as a replay would; a session that keeps no result is refused.
+    """
+    target = knowledge_dir() / "cases" / f"{name}.json"
+    previous = (load_transcript(target).get("frame") or {}).get("id") if target.is_file() else None
+    outcome = record(answers, previous, url, say)
+    if outcome.frame is None:
+        raise InputError("the session ended without a result to keep")
+    write_transcript(target, outcome.to_dict())
+    return outcome, target

@@ -31,17 +31,18 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from domes.typesynth.atlas import atlas
 from domes.errors import DomesError, InputError
-from domes.language.explain import explain
+from domes.io.scenes import load_scene
 from domes.knowledge.problems import ProblemFrame
 from domes.knowledge.relevance import RelevanceVector
 from domes.knowledge.screening import screen
+from domes.language.explain import explain
 from domes.model.labelled import LabelledChain
+from domes.model.mobility import mobility
+from domes.typesynth.atlas import ChainGenerator
 from domes.typesynth.labelling import label_joints
-from domes.typesynth.scene import load_scene
-from domes.typesynth.regenerate import EmptyStage, regenerate
 from domes.typesynth.number import number_synthesis
+from domes.typesynth.regenerate import EmptyStage, regenerate
 
 #: How far the design varies the problem when every candidate is eliminated: (extra loops, extra gear pairs).
 VARIATIONS = ((1, 0), (2, 0), (0, 1), (1, 1))
@@ -64,9 +65,14 @@ class DesignRun:
     notes: tuple[str, ...]
 
 
-def candidates_for(problem: ProblemFrame, links: int, joints: int) -> list[tuple[LabelledChain, dict]]:
-    """The labelled candidates of a problem and, for each, plain data about its origin."""
-    chain_dof = 3 * (links - 1) - 2 * joints
+def candidates_for(problem: ProblemFrame, links: int, joints: int,
+                   generator: ChainGenerator | None = None) -> list[tuple[LabelledChain, dict]]:
+    """The labelled candidates of a problem and, for each, plain data about its origin.
+
+    ``generator`` keeps the chain atlases between the attempts of one design.
+    """
+    generator = generator or ChainGenerator()
+    chain_dof = mobility(links, joints)
     if problem.scene:
         scene = load_scene(problem.scene)
         if (scene.links, scene.dof) != (links, chain_dof):
@@ -74,22 +80,23 @@ def candidates_for(problem: ProblemFrame, links: int, joints: int) -> list[tuple
                 scene, links=links, dof=chain_dof, existing=tuple(m for m in scene.existing if m.n == links)
             )
         try:
-            result = regenerate(scene)
+            result = regenerate(scene, generator=generator)
         except EmptyStage:
             return []
-        return [(c.mechanism, {"chain": c.chain_index, "existing": list(c.existing)}) for c in result.candidates]
+        return [(c.labelled, {"chain": c.chain_index, "existing": list(c.existing)}) for c in result.candidates]
     if chain_dof < 0:
         return []
-    chains = [LabelledChain.build(n, edges) for n, edges in atlas(links, chain_dof)]
+    chains = [LabelledChain.build(n, edges) for n, edges in generator.chains(links, chain_dof)]
     counts = {t: k for t, k in (("P", problem.slider_pairs or 0), ("G", problem.gear_pairs or 0)) if k}
     return [(labelled, {}) for labelled in label_joints(chains, counts)]
 
 
-def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None) -> DesignRun:
+def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None,
+             generator: ChainGenerator) -> DesignRun:
     numbers = number_synthesis(problem.dof, problem.loops, problem.space, problem.gear_pairs or 0)
     if problem.space != 3:
         raise InputError("the chain atlas is planar: spatial (λ = 6) problems get their numbers but no chains")
-    generated = candidates_for(problem, numbers.links, numbers.joints)
+    generated = candidates_for(problem, numbers.links, numbers.joints, generator)
     records = [{"id": i, **extra, **chain.to_dict()} for i, (chain, extra) in enumerate(generated, 1)]
     result = screen([chain for chain, _ in generated], criteria, problem, relevance=relevance)
     by_id = {c.id: c for c in criteria}
@@ -126,7 +133,8 @@ def design(
     for key in ("dof", "loops"):
         if getattr(problem, key) is None:
             raise InputError(f"the problem does not state its {key}: a design needs DOF and independent loops")
-    first = run = _attempt(problem, criteria, relevance)
+    generator = ChainGenerator()
+    first = run = _attempt(problem, criteria, relevance, generator)
     notes = []
     if run.kept or not vary:
         return run
@@ -147,7 +155,7 @@ def design(
             f"{run.joints} joints) {why}; trying {varied.loops} loops and {varied.gear_pairs} gear pairs"
         )
         try:
-            run = _attempt(varied, criteria, relevance)
+            run = _attempt(varied, criteria, relevance, generator)
         except DomesError as exc:
             notes.append(f"{varied.loops} loops and {varied.gear_pairs} gear pairs: {exc}")
             continue

@@ -13,10 +13,11 @@ import hashlib
 import re
 from typing import Callable
 
+from domes.design.verify import verify as verify_mechanism
 from domes.errors import DomesError
-from domes.expert.run import DesignRun, design
 from domes.expert.facts import STRUCTURAL, Phase, Relation
 from domes.expert.reasoner import recognise
+from domes.expert.run import DesignRun, design
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
 from domes.knowledge.relevance import relevance_vector
@@ -183,12 +184,10 @@ class World:
             self.say(note)
         self.say(result_text(self.run_result))
 
-    def verify(self, candidate: int, mech, check: tuple, path: str) -> None:
+    def verify(self, candidate: int, mech, check, path: str) -> None:
         """Run a dimensional check on a kept candidate; the result joins the design's notes."""
-        from domes.design.verify import run_check
-
         try:
-            text = f"verified candidate {candidate} with {path}: {run_check(mech, check)}"
+            text = f"verified candidate {candidate} with {path}: {verify_mechanism(mech, check).message}"
         except DomesError as exc:
             text = f"verification of candidate {candidate} with {path} failed: {exc}"
         self.say(text)

@@ -15,17 +15,14 @@ error names the file, the criterion and the field.
 from __future__ import annotations
 
 import json
-import os
-import tempfile
+import tomllib
 from pathlib import Path
 from typing import Iterable
 
-import tomllib
-
 from domes.errors import DomesError, InputError
+from domes.io.tomlsource import read_text
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
-from domes.io.tomlsource import read_text
 
 FORMATS = ("toml", "json")
 
@@ -45,7 +42,7 @@ def _frames(tables, where: str, text: str = "") -> list[CriterionFrame]:
     for index, table in enumerate(tables, 1):
         ident = table.get("id") if isinstance(table, dict) else None
         try:
-            frames.append(CriterionFrame.from_mapping(table))
+            frames.append(CriterionFrame.from_dict(table))
         except DomesError as exc:
             label = f"criterion {index}" + (f" (id {ident!r})" if isinstance(ident, str) else "")
             raise InputError(f"{where}{_line_of(text, ident)}: {label}: {exc}") from None
@@ -124,7 +121,7 @@ def read_cases(directory: str | Path) -> list[ProblemFrame]:
             raise InputError(f"{path}: not valid JSON: {exc}") from None
         if not isinstance(data, dict) or "frame" not in data:
             raise InputError(f"{path}: a case is a design transcript with a 'frame' (see docs/expert.md)")
-        frame = ProblemFrame.from_mapping(data["frame"], f"{path}: frame")
+        frame = ProblemFrame.from_dict(data["frame"], f"{path}: frame")
         if frame.id in owner:
             raise InputError(f"{path}: case id {frame.id!r} is also used by {owner[frame.id]}")
         owner[frame.id] = path
@@ -147,29 +144,11 @@ def dumps_toml(frames: Iterable[CriterionFrame]) -> str:
     blocks = []
     for frame in frames:
         lines = ["[[criterion]]"]
-        for key, value in frame.to_mapping().items():
+        for key, value in frame.to_dict().items():
             lines.append(f"{key} = {_toml_value(value)}")
         blocks.append("\n".join(lines))
     return "# DOMES-py knowledge base: criterion frames (Table 7-2)\n\n" + "\n\n".join(blocks) + "\n"
 
 
 def dumps_json(frames: Iterable[CriterionFrame]) -> str:
-    return json.dumps({"criteria": [f.to_mapping() for f in frames]}, ensure_ascii=False, indent=1) + "\n"
-
-
-def write_atomically(path: str | Path, text: str) -> None:
-    """Write a file through a temporary file in the same folder and ``os.replace``."""
-    path = Path(path)
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror}") from None
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as out:
-            out.write(text)
-        os.replace(tmp, path)
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror}") from None
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+    return json.dumps({"criteria": [f.to_dict() for f in frames]}, ensure_ascii=False, indent=1) + "\n"

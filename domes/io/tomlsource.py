@@ -18,17 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from domes.errors import InputError
-
-
-def read_text(path: str | Path) -> str:
-    """A UTF-8 text file, or an InputError that names it and says why it cannot be read."""
-    path = Path(path)
-    try:
-        return path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(f"{path}: not UTF-8 text") from None
+from domes.io.files import read_text
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,15 @@ from typing import Any, Iterable, Mapping
 from domes.errors import DomesError, InputError
 from domes.language.parse import parse_criterion, parse_relevance
 from domes.language.render import render_criterion, render_relevance
-from domes.language.tree import AllOf, Always, Criterion, HasName, Relevance, category, from_json, names_used, to_json
+from domes.language.tree import (
+    AllOf,
+    Always,
+    Criterion,
+    HasName,
+    Relevance,
+    category,
+    names_used,
+)
 from domes.language.tree import level as cost_level
 
 ID_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$")
@@ -138,7 +146,7 @@ class CriterionFrame:
         )
 
     @classmethod
-    def from_mapping(cls, data: Mapping[str, Any]) -> "CriterionFrame":
+    def from_dict(cls, data: Mapping[str, Any]) -> "CriterionFrame":
         """A frame from a source-file table or an exported record (the keys of :data:`FIELDS`)."""
         if not isinstance(data, Mapping):
             raise InputError(f"expected a table of fields, got {type(data).__name__}")
@@ -155,7 +163,7 @@ class CriterionFrame:
             raise InputError(f"category: the text is a category ({frame.category}) criterion, not ({data['category']})")
         return frame
 
-    def to_mapping(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         """The fields written to a source or export file (readable; re-parsed on import)."""
         return {
             "id": self.id,
@@ -176,35 +184,14 @@ class CriterionFrame:
         bad = set(changes) - (set(FIELDS) - {"id"})
         if bad:
             raise InputError(f"cannot edit field(s) {sorted(bad)} (the id is fixed: add a new criterion instead)")
-        current = {k: v for k, v in self.to_mapping().items() if k in FIELDS}
+        current = {k: v for k, v in self.to_dict().items() if k in FIELDS}
         if "text" in changes:  # a derived level or relevance follows the new text
             if "level" not in changes and self.level == cost_level(self.tree):
                 current.pop("level")
             if "relevance" not in changes and self.relevance == default_relevance(self.tree):
                 current.pop("relevance")
         current.update(changes)
-        return CriterionFrame.from_mapping(current)
-
-    @classmethod
-    def from_record(cls, record: Mapping[str, Any]) -> "CriterionFrame":
-        """A frame from a stored row: the stored trees are decoded and validated, not re-parsed."""
-        tree = from_json(record["tree"], "tree", "criterion")
-        relevance = from_json(record["relevance"], "relevance", "relevance")
-        return cls(
-            id=record["id"], text=record["text"], tree=tree, category=category(tree),
-            explanation=record["explanation"], keywords=tuple(record["keywords"]),
-            relevance_text=record["relevance_text"], relevance=relevance, level=record["level"],
-            source=record["source"], date=record["date"], enabled=bool(record["enabled"]),
-        )
-
-    def to_record(self) -> dict[str, Any]:
-        """The stored row: the text and the parsed trees as JSON."""
-        return {
-            "id": self.id, "text": self.text, "tree": to_json(self.tree), "category": self.category,
-            "explanation": self.explanation, "keywords": list(self.keywords), "relevance_text": self.relevance_text,
-            "relevance": to_json(self.relevance), "level": self.level, "source": self.source, "date": self.date,
-            "enabled": self.enabled,
-        }
+        return CriterionFrame.from_dict(current)
 
     def with_enabled(self, enabled: bool) -> "CriterionFrame":
         return replace(self, enabled=enabled)

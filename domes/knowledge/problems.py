@@ -10,7 +10,7 @@ rules gave the links their roles, the criteria the designer added, what the
 design did (e.g. varied the loops), the rejected candidates with the
 criterion that removed each, and its provenance.
 
->>> frame = ProblemFrame.from_mapping({"id": "pump", "problem_class": "Double-acting pump",
+>>> frame = ProblemFrame.from_dict({"id": "pump", "problem_class": "Double-acting pump",
 ...                                    "dof": 1, "loops": 3, "names": ["Piston"]})
 >>> frame.problem_class, sorted(frame.names), frame.mechanism_type
 ('double_acting_pump', ['piston'], 'planar')
@@ -23,8 +23,8 @@ from typing import Any, Mapping
 
 from domes.errors import InputError
 from domes.knowledge.frames import ID_PATTERN
-from domes.language.parse import normalise_name
 from domes.knowledge.relevance import RelevanceVector
+from domes.language.parse import normalise_name
 
 #: Structural attributes (Table 7-1 slots 3-10), all whole numbers.
 STRUCTURAL = ("outputs", "dof", "space", "loops", "gear_pairs", "slider_pairs", "links", "joints")
@@ -72,7 +72,7 @@ class ProblemFrame:
         return {k: getattr(self, k) for k in STRUCTURAL}
 
     @classmethod
-    def from_mapping(cls, data: Mapping[str, Any], where: str = "problem frame") -> "ProblemFrame":
+    def from_dict(cls, data: Mapping[str, Any], where: str = "problem frame") -> "ProblemFrame":
         """A frame from plain data (JSON); errors name the bad field."""
         if not isinstance(data, Mapping):
             raise InputError(f"{where}: expected an object")
@@ -116,8 +116,8 @@ class ProblemFrame:
             kwargs["relevance"] = RelevanceVector(tuple(relevance["ids"]), tuple(relevance["bits"]))
         return cls(**kwargs)
 
-    def to_mapping(self) -> dict[str, Any]:
-        """Plain data (JSON), the inverse of :meth:`from_mapping`."""
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (JSON), the inverse of :meth:`from_dict`."""
         out: dict[str, Any] = {"id": self.id, "title": self.title, "problem_class": self.problem_class}
         out.update(self.structure)
         out["names"] = sorted(self.names)

@@ -26,7 +26,17 @@ from typing import Iterable, Mapping
 
 from domes.errors import InputError
 from domes.language.parse import normalise_name
-from domes.language.tree import PROBLEM_ATTRIBUTES, AllOf, Always, AnyOf, Attribute, ClassIs, HasName, NoneOf, Relevance
+from domes.language.tree import (
+    PROBLEM_ATTRIBUTES,
+    AllOf,
+    Always,
+    AnyOf,
+    Attribute,
+    ClassIs,
+    HasName,
+    NoneOf,
+    Relevance,
+)
 
 
 @dataclass(frozen=True)
@@ -53,10 +63,10 @@ class Problem:
             object.__setattr__(self, "problem_class", normalise_name(self.problem_class))
 
     @classmethod
-    def from_mapping(cls, data: Mapping, where: str = "problem") -> "Problem":
+    def from_dict(cls, data: Mapping, where: str = "problem") -> "Problem":
         """A problem from plain data (JSON/TOML), with errors naming the bad field.
 
-        >>> Problem.from_mapping({"dof": 1, "names": ["Swing arm"]}).names
+        >>> Problem.from_dict({"dof": 1, "names": ["Swing arm"]}).names
         frozenset({'swing_arm'})
         """
         known = set(PROBLEM_ATTRIBUTES) | {"problem_class", "names"}

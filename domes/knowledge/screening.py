@@ -25,9 +25,10 @@ from dataclasses import dataclass, field
 from typing import Any, Callable, Sequence
 
 from domes.errors import InputError
-from domes.language.evaluate import compile_criterion, graph_features
 from domes.knowledge.relevance import RelevanceVector, is_relevant
+from domes.language.evaluate import compile_criterion, graph_features
 from domes.language.tree import Always, Relevance
+from domes.model.labelled import LabelledChain, share_topologies
 
 
 @dataclass(frozen=True)
@@ -126,6 +127,7 @@ def screen(
             chosen.append((criterion.level, position, criterion))
     chosen.sort(key=lambda t: (t[0], t[1]))
 
+    share_topologies(c for c in candidates if isinstance(c, LabelledChain))
     alive = list(range(len(candidates)))
     features: dict[int, Any] = {}
     rejections: list[Rejection] = []

@@ -33,20 +33,29 @@ True
 from __future__ import annotations
 
 from bisect import bisect_left
-from dataclasses import dataclass, field
-from functools import lru_cache
 from typing import Callable
 
 from domes.errors import InputError
 from domes.language.tree import (
-    Adjacent, And, Count, Criterion, Distance, HasMember, InLoop, JointCount, Not, Or, Represents, SharesJoint, TypeIs,
+    Adjacent,
+    And,
+    Count,
+    Criterion,
+    Distance,
+    HasMember,
+    InLoop,
+    JointCount,
+    Not,
+    Or,
+    Represents,
+    SharesJoint,
+    TypeIs,
 )
 from domes.model.labelled import JOINT_TYPES, LabelledChain
+from domes.model.topology import UNREACHABLE
 
 #: Bit of each joint type in a TYPE mask.
 JOINT_BIT = {t: 1 << i for i, t in enumerate(JOINT_TYPES)}
-#: Distance to an unreachable vertex (or to a role no vertex carries).
-UNREACHABLE = 1 << 30
 
 
 def _set_mask(joints) -> int:
@@ -54,114 +63,6 @@ def _set_mask(joints) -> int:
     for j in joints:
         mask |= JOINT_BIT[j]
     return mask
-
-
-@dataclass(frozen=True, eq=False)
-class Topology:
-    """The unlabelled part of the features: simple cycles, distances, cycle-space ranks."""
-
-    n: int
-    edges: tuple[tuple[int, int], ...]
-    cycle_edges: tuple[int, ...]  # edge bit masks of every simple cycle
-    cycle_vertices: tuple[int, ...]
-    cycle_lengths: tuple[int, ...]
-    loops: int  # independent loops L = rank of the cycle space
-    distance: tuple[tuple[int, ...], ...]
-    _ranks: dict = field(default_factory=dict, repr=False)
-
-    def rank(self, subset: int) -> int:
-        """GF(2) rank of the cycles whose indices are the set bits of ``subset`` (cached)."""
-        r = self._ranks.get(subset)
-        if r is None:
-            r = _gf2_rank(self.cycle_edges[i] for i in range(len(self.cycle_edges)) if subset >> i & 1)
-            self._ranks[subset] = r
-        return r
-
-
-def _gf2_rank(vectors) -> int:
-    pivots: dict[int, int] = {}
-    for v in vectors:
-        while v:
-            top = v.bit_length() - 1
-            if top not in pivots:
-                pivots[top] = v
-                break
-            v ^= pivots[top]
-    return len(pivots)
-
-
-def simple_cycles(n: int, edges) -> list[tuple[int, int, int]]:
-    """Every simple cycle of a simple graph as (edge mask, vertex mask, length).
-
-    >>> len(simple_cycles(4, [(0, 1), (1, 2), (2, 3), (0, 3), (0, 2)]))
-    3
-    """
-    index = {}
-    adjacency: list[list[int]] = [[] for _ in range(n)]
-    for i, (u, v) in enumerate(edges):
-        index[u, v] = index[v, u] = i
-        adjacency[u].append(v)
-        adjacency[v].append(u)
-    found: dict[int, tuple[int, int, int]] = {}
-    for start in range(n):
-        stack = [(start, iter(adjacency[start]))]
-        path_edges, path_vertices = 0, 1 << start
-        edge_stack: list[int] = []
-        while stack:
-            vertex, neighbours = stack[-1]
-            advanced = False
-            for w in neighbours:
-                if w == start and len(stack) >= 3:
-                    mask = path_edges | 1 << index[vertex, w]
-                    found.setdefault(mask, (mask, path_vertices, len(stack)))
-                elif w > start and not path_vertices >> w & 1:
-                    bit = 1 << index[vertex, w]
-                    edge_stack.append(bit)
-                    path_edges |= bit
-                    path_vertices |= 1 << w
-                    stack.append((w, iter(adjacency[w])))
-                    advanced = True
-                    break
-            if not advanced:
-                stack.pop()
-                path_vertices &= ~(1 << vertex)
-                if edge_stack:
-                    path_edges &= ~edge_stack.pop()
-    return sorted(found.values(), key=lambda c: (c[2], c[0]))
-
-
-@lru_cache(maxsize=4096)
-def topology(n: int, edges: tuple[tuple[int, int], ...]) -> Topology:
-    """The topology features of the chain with links ``0..n−1`` and these (sorted) joints."""
-    cycles = simple_cycles(n, edges)
-    adjacency: list[list[int]] = [[] for _ in range(n)]
-    for u, v in edges:
-        adjacency[u].append(v)
-        adjacency[v].append(u)
-    distance = []
-    for s in range(n):
-        row = [UNREACHABLE] * n
-        row[s] = 0
-        frontier = [s]
-        while frontier:
-            nxt = []
-            for u in frontier:
-                for w in adjacency[u]:
-                    if row[w] == UNREACHABLE:
-                        row[w] = row[u] + 1
-                        nxt.append(w)
-            frontier = nxt
-        distance.append(tuple(row))
-    components = sum(1 for s in range(n) if all(distance[s][t] == UNREACHABLE for t in range(s)))
-    return Topology(
-        n,
-        edges,
-        tuple(c[0] for c in cycles),
-        tuple(c[1] for c in cycles),
-        tuple(c[2] for c in cycles),
-        len(edges) - n + components,
-        tuple(distance),
-    )
 
 
 class Features:
@@ -173,7 +74,7 @@ class Features:
     )
 
     def __init__(self, chain: LabelledChain):
-        topo = topology(chain.n, chain.edges)
+        topo = chain.topology
         n = chain.n
         self.topology = topo
         self.n = n

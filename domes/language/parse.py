@@ -26,9 +26,31 @@ from dataclasses import dataclass
 
 from domes.errors import InputError
 from domes.language.tree import (
-    NAME_PATTERN, Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Criterion,
-    Distance, Domain, ForAll, HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
-    SharesJoint, TypeIs,
+    NAME_PATTERN,
+    Adjacent,
+    AllOf,
+    Always,
+    And,
+    AnyOf,
+    Attribute,
+    ClassIs,
+    Comparison,
+    Count,
+    Criterion,
+    Distance,
+    Domain,
+    ForAll,
+    HasMember,
+    HasName,
+    InLoop,
+    JointCount,
+    NoneOf,
+    Not,
+    Or,
+    Relevance,
+    Represents,
+    SharesJoint,
+    TypeIs,
 )
 from domes.model.labelled import JOINT_TYPES
 

@@ -12,9 +12,28 @@ from __future__ import annotations
 
 from domes.errors import InputError
 from domes.language.tree import (
-    Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Criterion, Distance,
-    HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Relevance, Represents,
-    SharesJoint, TypeIs,
+    Adjacent,
+    AllOf,
+    Always,
+    And,
+    AnyOf,
+    Attribute,
+    ClassIs,
+    Comparison,
+    Count,
+    Criterion,
+    Distance,
+    HasMember,
+    HasName,
+    InLoop,
+    JointCount,
+    NoneOf,
+    Not,
+    Or,
+    Relevance,
+    Represents,
+    SharesJoint,
+    TypeIs,
 )
 
 JOINT_NAMES = {"R": "revolute", "P": "prismatic", "G": "gear", "C": "cam", "O": "rolling", "S": "spring", "H": "hydraulic", "F": "force"}

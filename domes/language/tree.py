@@ -30,7 +30,7 @@ import re
 from dataclasses import MISSING, dataclass, fields
 from typing import Any, Union
 
-from domes.errors import DomesError, InputError
+from domes.errors import InputError
 from domes.model.labelled import JOINT_TYPES
 
 #: Names of roles (named vertices), loops and problem classes: lower case words joined by "_".

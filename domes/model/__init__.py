@@ -24,12 +24,10 @@ from domes.model.mechanism import (
     Mechanism,
     Polygon,
     from_labelled,
-    load_mechanism,
-    mechanism_from_dict,
-    mechanism_to_dict,
 )
+from domes.model.mobility import PLANAR, SPATIAL, chain_joints, chain_loops, mobility
 
 __all__ = [
     "Branch", "Chain", "CouplerPoint", "Input", "JOINT_TYPES", "Joint", "LabelledChain", "Mechanism", "Polygon",
-    "chain_properties", "from_labelled", "load_mechanism", "mechanism_from_dict", "mechanism_to_dict",
+    "PLANAR", "SPATIAL", "chain_joints", "chain_loops", "chain_properties", "from_labelled", "mobility",
 ]

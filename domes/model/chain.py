@@ -16,11 +16,13 @@ from typing import Any, Iterable
 import networkx as nx
 import numpy as np
 
+from domes.errors import InputError
 from domes.model.canon import Automorphisms, automorphisms, canonical_form
 from domes.model.charpoly import characteristic_polynomial
+from domes.model.mobility import joints_for, mobility
 from domes.model.rigidity import rigid_subchain, subset_dof_table, subset_sizes
 from domes.model.structural import structural_number
-from domes.errors import InputError
+from domes.model.topology import Topology
 
 Edge = tuple[int, int]
 
@@ -122,8 +124,8 @@ class Chain:
 
     @property
     def dof(self) -> int:
-        """``F = 3(n − 1) − 2j`` (Grübler, (3-13))."""
-        return 3 * (self.n - 1) - 2 * self.joints
+        """``F = 3(n − 1) − 2j`` (Grübler, (3-13)): :func:`~domes.model.mobility.mobility`."""
+        return mobility(self.n, self.joints)
 
     @cached_property
     def degrees(self) -> tuple[int, ...]:
@@ -158,6 +160,11 @@ class Chain:
 
     def __hash__(self) -> int:
         return hash(self.certificate)
+
+    @cached_property
+    def topology(self) -> Topology:
+        """Loops, cycle space and distances of the chain (:class:`~domes.model.topology.Topology`)."""
+        return Topology(self.n, self.edges)
 
     @cached_property
     def automorphisms(self) -> Automorphisms:
@@ -241,7 +248,7 @@ class Chain:
             return "total"
         table = subset_dof_table(self.n, self.edges)
         sizes = subset_sizes(self.n)
-        inside = (3 * (sizes - 1) - table) // 2
+        inside = joints_for(sizes, table)
         proper = np.arange(table.size) != table.size - 1
         if np.any(proper & (sizes >= 3) & (table < self.dof) & (inside >= sizes)):
             return "partial"  # a proper sub-chain with a loop and fewer DOF
@@ -266,7 +273,7 @@ class Chain:
             return None
         return structural_number(self.n, self.edges)
 
-    def as_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, Any]:
         """The properties as plain data (the ``--format json`` record)."""
         record: dict[str, Any] = {
             "links": self.links,
@@ -309,4 +316,4 @@ def chain_properties(graph: nx.Graph | Chain | str | Iterable[Edge]) -> dict[str
         edges = [tuple(e) for e in graph]
         n = 1 + max((max(e) for e in edges), default=-1)
         chain = Chain(n, tuple(edges))
-    return chain.as_dict()
+    return chain.to_dict()

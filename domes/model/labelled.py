@@ -1,10 +1,13 @@
-"""Labelled chains: joints carry a type, links carry roles (DOMES's labelled graphs).
+"""Labelled chains: joints carry a type, links carry roles (DOMES's labelled graphs, a mechanism's topology).
 
 A :class:`LabelledChain` is the common currency of regeneration, screening
 and the design expert. Links are ``0..n−1``; each joint is a link pair with
 a joint type (see :data:`JOINT_TYPES`); each link has a set of role names
 (``ground``, ``input``, ``swing_arm``, ...); loops may be named
-(``drive`` → the links of that loop, in order).
+(``drive`` → the links of that loop, in order). A chain drawn by a designer
+also names itself, its links and its joints (Yan's mechanism topology
+matrix, seed 002 §4-1): :meth:`LabelledChain.from_named`. Names are not part
+of the identity.
 
 Two labelled chains are the same design exactly when a label-preserving
 isomorphism maps one onto the other: :attr:`LabelledChain.certificate` is
@@ -28,8 +31,9 @@ from typing import Iterable, Mapping
 import networkx as nx
 import pynauty
 
-from domes.model.canon import Automorphisms
 from domes.errors import DomesError, InputError
+from domes.model.canon import Automorphisms
+from domes.model.topology import Topology
 
 Edge = tuple[int, int]
 
@@ -54,7 +58,9 @@ class LabelledChain:
 
     ``edges[i]`` has type ``joint_types[i]``; ``roles[v]`` is a frozenset of
     role names of link ``v``; ``named_loops`` maps a loop name to its links
-    in loop order. Build one with :meth:`build`.
+    in loop order. ``name``, ``source``, ``link_names`` and ``joint_names``
+    (empty: unnamed) say what a designer called them. Build one with
+    :meth:`build` or :meth:`from_named`.
     """
 
     n: int
@@ -62,6 +68,10 @@ class LabelledChain:
     joint_types: tuple[str, ...]
     roles: tuple[frozenset[str], ...]
     named_loops: tuple[tuple[str, tuple[int, ...]], ...] = ()
+    name: str = ""
+    source: str = ""
+    link_names: tuple[str, ...] = ()
+    joint_names: tuple[str, ...] = ()
 
     @classmethod
     def build(
@@ -71,8 +81,13 @@ class LabelledChain:
         joint_types: Iterable[str] | Mapping[Edge, str] | None = None,
         roles: Mapping[int, Iterable[str]] | None = None,
         named_loops: Mapping[str, Iterable[int]] | None = None,
+        *,
+        name: str = "",
+        source: str = "",
+        link_names: Iterable[str] | None = None,
+        joint_names: Iterable[str] | None = None,
     ) -> "LabelledChain":
-        """Validate and normalise: edges sorted, all joints ``R`` unless given."""
+        """Validate and normalise: edges sorted, all joints ``R`` unless given; names optional."""
         edges = [tuple(int(x) for x in e) for e in edges]
         if isinstance(joint_types, Mapping):
             lookup = {tuple(sorted(k)): t for k, t in joint_types.items()}
@@ -100,19 +115,29 @@ class LabelledChain:
                 raise InputError(f"role(s) {sorted(names)} given to link {v}, which is not in 0..{n - 1}")
             role_sets[int(v)] = frozenset(str(r) for r in names)
         loops = []
-        for name, links in sorted((named_loops or {}).items()):
+        for loop_name, links in sorted((named_loops or {}).items()):
             links = tuple(int(x) for x in links)
             ring = list(zip(links, links[1:] + links[:1]))
             missing = [p for p in ring if (min(p), max(p)) not in seen]
             if len(links) < 3 or missing:
-                raise InputError(f"named loop {name!r}: {list(links)} is not a closed loop of the chain (missing joints {missing})")
-            loops.append((str(name), links))
+                raise InputError(f"named loop {loop_name!r}: {list(links)} is not a closed loop of the chain (missing joints {missing})")
+            loops.append((str(loop_name), links))
+        link_names = tuple(str(x) for x in link_names or ())
+        if link_names and len(link_names) != n:
+            raise InputError(f"{len(link_names)} link names given for {n} links")
+        joint_names = tuple(str(x) for x in joint_names or ())
+        if joint_names and len(joint_names) != len(edges):
+            raise InputError(f"{len(joint_names)} joint names given for {len(edges)} joints")
         return cls(
             n,
             tuple((min(edges[i]), max(edges[i])) for i in order),
             tuple(types[i] for i in order),
             tuple(role_sets),
             tuple(loops),
+            str(name),
+            str(source),
+            link_names,
+            tuple(joint_names[i] for i in order) if joint_names else (),
         )
 
     # -- views ---------------------------------------------------------------
@@ -139,6 +164,12 @@ class LabelledChain:
         """Joints on each link."""
         return tuple(len(a) for a in self.neighbours)
 
+    @cached_property
+    def topology(self) -> Topology:
+        """Loops, cycle space and distances of the chain's graph (shared with chains derived from this one)."""
+        return Topology(self.n, self.edges)
+
+    @cached_property
     def automorphisms(self) -> Automorphisms:
         """Label-preserving automorphisms (roles and joint types kept), acting on the links."""
         graph, _ = self._coloured()
@@ -156,15 +187,85 @@ class LabelledChain:
         """Links that carry ``role``."""
         return [v for v, r in enumerate(self.roles) if role in r]
 
+    def link_name(self, v: int) -> str:
+        """What the designer called link ``v`` (its number when the links are not named)."""
+        return self.link_names[v] if self.link_names else str(v)
+
+    def joint_name(self, i: int) -> str:
+        """What the designer called joint ``i`` (``a-b`` by link names when the joints are not named)."""
+        if self.joint_names and self.joint_names[i]:
+            return self.joint_names[i]
+        u, v = self.edges[i]
+        return f"{self.link_name(u)}-{self.link_name(v)}"
+
     def with_roles(self, roles: Mapping[int, Iterable[str]]) -> "LabelledChain":
-        """The same chain and joint types with other link roles."""
-        return LabelledChain.build(self.n, self.edges, self.joint_types, roles, dict(self.named_loops))
+        """The same chain, joint types and names with other link roles (sharing the topology)."""
+        return self.with_labels(roles=roles)
+
+    def with_joint_types(self, joint_types: Iterable[str]) -> "LabelledChain":
+        """The same chain, roles and names with other joint types (in the order of :attr:`edges`)."""
+        return self.with_labels(joint_types=joint_types)
+
+    def with_labels(self, joint_types: Iterable[str] | None = None,
+                    roles: Mapping[int, Iterable[str]] | None = None) -> "LabelledChain":
+        """The same chain and names with other joint types and/or roles, sharing the topology."""
+        child = LabelledChain.build(
+            self.n, self.edges, self.joint_types if joint_types is None else joint_types,
+            dict(enumerate(self.roles)) if roles is None else roles, dict(self.named_loops),
+            name=self.name, source=self.source, link_names=self.link_names, joint_names=self.joint_names,
+        )
+        if "topology" in self.__dict__:
+            child.__dict__["topology"] = self.__dict__["topology"]
+        return child
+
+    @classmethod
+    def from_named(
+        cls,
+        name: str,
+        links: Iterable[tuple[str, Iterable[str]]],
+        joints: Iterable[tuple[str, str, str, str]],
+        source: str = "",
+    ) -> "LabelledChain":
+        """A chain as a designer names it: ``(link name, roles)`` and ``(joint name, link a, link b, type)``.
+
+        >>> pair = LabelledChain.from_named("pair", [("1", ["ground"]), ("2", [])], [("a", "1", "2", "R")])
+        >>> pair.edges, pair.joint_names, pair.link_name(0)
+        (((0, 1),), ('a',), '1')
+        """
+        names: list[str] = []
+        roles: dict[int, frozenset[str]] = {}
+        for link_name, link_roles in links:
+            link_name = str(link_name)
+            if link_name in names:
+                raise InputError(f"mechanism {name!r}: link {link_name!r} is defined twice")
+            roles[len(names)] = frozenset(str(r) for r in link_roles)
+            names.append(link_name)
+        index = {n: i for i, n in enumerate(names)}
+        edges, types, joint_names, seen = [], [], [], {}
+        for joint_name, a, b, kind in joints:
+            label = joint_name or f"{a}-{b}"
+            for end in (a, b):
+                if str(end) not in index:
+                    raise InputError(f"mechanism {name!r}, joint {label!r}: unknown link {end!r} (links: {', '.join(names)})")
+            if str(a) == str(b):
+                raise InputError(f"mechanism {name!r}, joint {label!r}: a joint needs two different links")
+            if kind not in JOINT_TYPES:
+                raise InputError(f"mechanism {name!r}, joint {label!r}: unknown type {kind!r}; known: {', '.join(JOINT_TYPES)}")
+            pair = tuple(sorted((index[str(a)], index[str(b)])))
+            if pair in seen:
+                raise InputError(f"mechanism {name!r}, joint {label!r}: links {a} and {b} are already joined by {seen[pair]!r}")
+            seen[pair] = label
+            edges.append(pair)
+            types.append(kind)
+            joint_names.append(str(joint_name))
+        return cls.build(len(names), edges, types, roles, name=name, source=source, link_names=names,
+                         joint_names=joint_names if any(joint_names) else None)
 
     def to_networkx(self) -> nx.Graph:
         """Links as nodes with a ``roles`` attribute; joints as edges with a ``type`` attribute."""
         graph = nx.Graph(named_loops=dict(self.named_loops))
         for v in range(self.n):
-            graph.add_node(v, roles=self.roles[v])
+            graph.add_node(v, roles=self.roles[v], name=self.link_name(v))
         for (u, v), t in zip(self.edges, self.joint_types):
             graph.add_edge(u, v, type=t)
         return graph
@@ -184,15 +285,24 @@ class LabelledChain:
         )
 
     def to_dict(self) -> dict:
-        """Plain data: ``{"links": [{"id", "roles"}], "joints": [{"links", "type"}], "loops"}``.
+        """Plain data: ``{"links": [{"id", "roles"}], "joints": [{"links", "type"}], "loops"}``, names where given.
 
         >>> LabelledChain.build(3, [(0, 1), (1, 2), (0, 2)], roles={0: {"ground"}}).to_dict()["links"][0]
         {'id': 0, 'roles': ['ground']}
         """
-        data = {
-            "links": [{"id": v, "roles": sorted(self.roles[v])} for v in range(self.n)],
-            "joints": [{"links": [u, v], "type": t} for (u, v), t in zip(self.edges, self.joint_types)],
-        }
+        data: dict = {}
+        if self.name:
+            data["name"] = self.name
+        if self.source:
+            data["source"] = self.source
+        data["links"] = [{"id": v, "roles": sorted(self.roles[v])} for v in range(self.n)]
+        data["joints"] = [{"links": [u, v], "type": t} for (u, v), t in zip(self.edges, self.joint_types)]
+        for v, item in enumerate(data["links"]):
+            if self.link_names:
+                item["name"] = self.link_names[v]
+        for i, item in enumerate(data["joints"]):
+            if self.joint_names and self.joint_names[i]:
+                item["name"] = self.joint_names[i]
         if self.named_loops:
             data["loops"] = {name: list(links) for name, links in self.named_loops}
         return data
@@ -207,14 +317,17 @@ class LabelledChain:
         """
         if not isinstance(data, dict):
             raise InputError(f"{where}: expected an object with links and joints")
-        unknown = set(data) - {"links", "joints", "roles", "loops", "id", "existing", "existing_designs", "chain"}
+        unknown = set(data) - {"name", "source", "links", "joints", "roles", "loops", "id", "existing", "existing_designs", "chain"}
         if unknown:
             raise InputError(f"{where}: unknown field(s) {', '.join(sorted(unknown))}")
         links, joints = data.get("links"), data.get("joints")
         roles = dict(data.get("roles") or {})
+        link_names = None
         if isinstance(links, list):
             try:
                 roles = {int(item["id"]): item.get("roles", []) for item in links}
+                if any("name" in item for item in links):
+                    link_names = [str(item.get("name", item["id"])) for item in links]
             except (TypeError, KeyError, ValueError):
                 raise InputError(f"{where}: each link must be an object with an 'id' and optional 'roles'") from None
             n = len(links)
@@ -224,9 +337,10 @@ class LabelledChain:
             raise InputError(f"{where}: 'links' must be a number or a list of links")
         if not isinstance(joints, list):
             raise InputError(f"{where}: 'joints' must be a list")
-        edges, types = [], []
+        edges, types, joint_names = [], [], []
         for j in joints:
             pair, kind = None, "R"
+            joint_names.append(str(j.get("name", "")) if isinstance(j, dict) else "")
             if isinstance(j, dict):
                 pair, kind = j.get("links"), j.get("type", "R")
             elif isinstance(j, list) and len(j) in (2, 3):
@@ -243,7 +357,9 @@ class LabelledChain:
         if not isinstance(loops, dict):
             raise InputError(f"{where}: 'loops' must map a loop name to its links in order")
         try:
-            return cls.build(n, edges, types, role_map, loops)
+            return cls.build(n, edges, types, role_map, loops, name=str(data.get("name", "")),
+                             source=str(data.get("source", "")), link_names=link_names,
+                             joint_names=joint_names if any(joint_names) else None)
         except DomesError as exc:
             raise InputError(f"{where}: {exc}") from None
 
@@ -281,3 +397,24 @@ class LabelledChain:
 
     def __hash__(self) -> int:
         return hash(self.certificate)
+
+
+def share_topologies(chains: Iterable[LabelledChain]) -> None:
+    """Let labelled chains on the same graph share one :class:`~domes.model.topology.Topology`.
+
+    Each labelled chain caches its topology on first use; among chains built
+    separately on the same links and joints (e.g. read from a file), this
+    makes the first one's serve all, so loops are enumerated once per graph.
+
+    >>> a = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)])
+    >>> b = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)], {(0, 1): "P"})
+    >>> share_topologies([a, b]); a.topology is b.topology
+    True
+    """
+    shared: dict[tuple, Topology] = {}
+    for chain in chains:
+        known = shared.get((chain.n, chain.edges))
+        if known is None:
+            shared[(chain.n, chain.edges)] = chain.topology
+        elif "topology" not in chain.__dict__:
+            chain.__dict__["topology"] = known

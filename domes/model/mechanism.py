@@ -34,12 +34,13 @@ angle of ``k``; for an R joint between two moving links ``a, b`` the angle of
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import dataclass, field
 from typing import Iterable, Mapping
 
 from domes.errors import InputError
+from domes.model.labelled import LabelledChain
+from domes.model.mobility import mobility
 
 Point2 = tuple[float, float]
 
@@ -190,7 +191,7 @@ class Mechanism:
     @property
     def dof(self) -> int:
         """Degrees of freedom by Grübler's count ``3(n − 1) − 2j`` (lower pairs)."""
-        return 3 * (len(self.links) - 1) - 2 * len(self.joints)
+        return mobility(len(self.links), len(self.joints))
 
     @property
     def loops(self) -> int:
@@ -238,6 +239,116 @@ class Mechanism:
                 best = max(best, math.hypot(p[0] - q[0], p[1] - q[1]))
         return best or 1.0
 
+    def labelled(self) -> LabelledChain:
+        """The mechanism's topology: a :class:`~domes.model.LabelledChain` with its joint types, ground and names.
+
+        >>> from domes.motion.planar.examples import slider_crank
+        >>> chain = slider_crank().labelled()
+        >>> chain.joint_types, chain.links_with_role("ground"), chain.link_name(0)
+        (('R', 'P', 'R', 'R'), [0], 'frame')
+        """
+        index = {name: i for i, name in enumerate(self.links)}
+        return LabelledChain.build(
+            len(self.links),
+            [(index[j.links[0]], index[j.links[1]]) for j in self.joints],
+            [j.kind for j in self.joints],
+            {index[self.ground]: {"ground"}},
+            name=self.name,
+            link_names=self.links,
+            joint_names=[j.name for j in self.joints],
+        )
+
+    @classmethod
+    def from_dict(cls, data: Mapping, source: str = "<dict>") -> "Mechanism":
+        """Build a :class:`Mechanism` from the JSON structure documented in ``docs/kinematics.md``.
+
+        >>> m = Mechanism.from_dict({"links": ["g", "a", "b", "c"], "ground": "g",
+        ...     "joints": [{"name": "A", "type": "R", "links": ["g", "a"], "at": [0, 0]},
+        ...                {"name": "B", "type": "R", "links": ["a", "b"], "at": [1, 0]},
+        ...                {"name": "C", "type": "R", "links": ["b", "c"], "at": [2, 2]},
+        ...                {"name": "D", "type": "R", "links": ["c", "g"], "at": [3, 0]}],
+        ...     "inputs": [{"joint": "A", "speed": 90}]})
+        >>> round(m.inputs[0].speed, 6)  # degrees by default
+        1.570796
+        """
+        _keys(data, {"name", "angle_unit", "links", "ground", "joints", "inputs", "points", "polygons", "comment"},
+              {"links", "ground", "joints", "inputs"}, source)
+        unit = data.get("angle_unit", "deg")
+        if unit not in ("deg", "rad"):
+            raise InputError(f"{source}: angle_unit must be 'deg' or 'rad', got {unit!r}")
+        to_rad = math.radians if unit == "deg" else float
+        links, link_angles = [], {}
+        if not isinstance(data["links"], list):
+            raise InputError(f"{source}: links: expected a list")
+        for k, item in enumerate(data["links"]):
+            where = f"{source}: links[{k}]"
+            if isinstance(item, str):
+                links.append(item)
+                continue
+            _keys(item, {"name", "angle"}, {"name"}, where)
+            links.append(str(item["name"]))
+            if "angle" in item:
+                link_angles[links[-1]] = to_rad(_num(item["angle"], f"{where}.angle"))
+        joints = []
+        if not isinstance(data["joints"], list):
+            raise InputError(f"{source}: joints: expected a list")
+        for k, item in enumerate(data["joints"]):
+            where = f"{source}: joints[{k}]"
+            _keys(item, {"name", "type", "links", "at", "direction", "origin"}, {"name", "type", "links", "at"}, where)
+            if not isinstance(item["links"], list):
+                raise InputError(f"{where}.links: expected a list of link names")
+            joints.append(Joint(
+                str(item["name"]), str(item["type"]), tuple(str(x) for x in item["links"]), _xy(item["at"], f"{where}.at"),
+                to_rad(_num(item.get("direction", 0.0), f"{where}.direction")),
+                _xy(item["origin"], f"{where}.origin") if "origin" in item else None,
+            ))
+        inputs = []
+        for k, item in enumerate(data["inputs"]):
+            where = f"{source}: inputs[{k}]"
+            _keys(item, {"joint", "speed", "acceleration"}, {"joint"}, where)
+            jt = next((j for j in joints if j.name == item["joint"]), None)
+            scale = to_rad if jt is not None and jt.kind == "R" else float
+            inputs.append(Input(str(item["joint"]), scale(_num(item.get("speed", 1.0), f"{where}.speed")),
+                                scale(_num(item.get("acceleration", 0.0), f"{where}.acceleration"))))
+        points = []
+        for k, item in enumerate(data.get("points", [])):
+            where = f"{source}: points[{k}]"
+            _keys(item, {"name", "link", "at"}, {"name", "link", "at"}, where)
+            points.append(CouplerPoint(str(item["name"]), str(item["link"]), _xy(item["at"], f"{where}.at")))
+        polygons = []
+        for k, item in enumerate(data.get("polygons", [])):
+            where = f"{source}: polygons[{k}]"
+            _keys(item, {"name", "link", "vertices"}, {"name", "link", "vertices"}, where)
+            polygons.append(Polygon(str(item["name"]), str(item["link"]),
+                                    tuple(_xy(v, f"{where}.vertices[{i}]") for i, v in enumerate(item["vertices"]))))
+        return cls.build(str(data.get("name", source)), links, str(data["ground"]), joints, inputs,
+                               points, polygons, link_angles, source)
+
+    def to_dict(self) -> dict:
+        """The JSON structure of the mechanism (angles in degrees); inverse of :meth:`from_dict`."""
+        mech = self
+        angles = dict(mech.link_angles)
+        deg = math.degrees
+        out: dict = {"name": mech.name, "angle_unit": "deg", "ground": mech.ground,
+                     "links": [{"name": x, "angle": deg(angles[x])} if x in angles else x for x in mech.links],
+                     "joints": [], "inputs": []}
+        for j in mech.joints:
+            item = {"name": j.name, "type": j.kind, "links": list(j.links), "at": list(j.at)}
+            if j.kind == "P":
+                item["direction"] = deg(j.direction)
+                if j.origin is not None:
+                    item["origin"] = list(j.origin)
+            out["joints"].append(item)
+        for i in mech.inputs:
+            scale = deg if mech.joint(i.joint).kind == "R" else float
+            out["inputs"].append({"joint": i.joint, "speed": scale(i.speed), "acceleration": scale(i.acceleration)})
+        if mech.points:
+            out["points"] = [{"name": p.name, "link": p.link, "at": list(p.at)} for p in mech.points]
+        if mech.polygons:
+            out["polygons"] = [{"name": p.name, "link": p.link, "vertices": [list(v) for v in p.vertices]}
+                               for p in mech.polygons]
+        return out
+
 
 # -- file format ------------------------------------------------------------------
 
@@ -263,111 +374,6 @@ def _keys(obj, allowed: set[str], required: set[str], where: str) -> None:
     missing = required - set(obj)
     if missing:
         raise InputError(f"{where}: missing field(s) {sorted(missing)}")
-
-
-def mechanism_from_dict(data: Mapping, source: str = "<dict>") -> Mechanism:
-    """Build a :class:`Mechanism` from the JSON structure documented in ``docs/kinematics.md``.
-
-    >>> m = mechanism_from_dict({"links": ["g", "a", "b", "c"], "ground": "g",
-    ...     "joints": [{"name": "A", "type": "R", "links": ["g", "a"], "at": [0, 0]},
-    ...                {"name": "B", "type": "R", "links": ["a", "b"], "at": [1, 0]},
-    ...                {"name": "C", "type": "R", "links": ["b", "c"], "at": [2, 2]},
-    ...                {"name": "D", "type": "R", "links": ["c", "g"], "at": [3, 0]}],
-    ...     "inputs": [{"joint": "A", "speed": 90}]})
-    >>> round(m.inputs[0].speed, 6)  # degrees by default
-    1.570796
-    """
-    _keys(data, {"name", "angle_unit", "links", "ground", "joints", "inputs", "points", "polygons", "comment"},
-          {"links", "ground", "joints", "inputs"}, source)
-    unit = data.get("angle_unit", "deg")
-    if unit not in ("deg", "rad"):
-        raise InputError(f"{source}: angle_unit must be 'deg' or 'rad', got {unit!r}")
-    to_rad = math.radians if unit == "deg" else float
-    links, link_angles = [], {}
-    if not isinstance(data["links"], list):
-        raise InputError(f"{source}: links: expected a list")
-    for k, item in enumerate(data["links"]):
-        where = f"{source}: links[{k}]"
-        if isinstance(item, str):
-            links.append(item)
-            continue
-        _keys(item, {"name", "angle"}, {"name"}, where)
-        links.append(str(item["name"]))
-        if "angle" in item:
-            link_angles[links[-1]] = to_rad(_num(item["angle"], f"{where}.angle"))
-    joints = []
-    if not isinstance(data["joints"], list):
-        raise InputError(f"{source}: joints: expected a list")
-    for k, item in enumerate(data["joints"]):
-        where = f"{source}: joints[{k}]"
-        _keys(item, {"name", "type", "links", "at", "direction", "origin"}, {"name", "type", "links", "at"}, where)
-        if not isinstance(item["links"], list):
-            raise InputError(f"{where}.links: expected a list of link names")
-        joints.append(Joint(
-            str(item["name"]), str(item["type"]), tuple(str(x) for x in item["links"]), _xy(item["at"], f"{where}.at"),
-            to_rad(_num(item.get("direction", 0.0), f"{where}.direction")),
-            _xy(item["origin"], f"{where}.origin") if "origin" in item else None,
-        ))
-    inputs = []
-    for k, item in enumerate(data["inputs"]):
-        where = f"{source}: inputs[{k}]"
-        _keys(item, {"joint", "speed", "acceleration"}, {"joint"}, where)
-        jt = next((j for j in joints if j.name == item["joint"]), None)
-        scale = to_rad if jt is not None and jt.kind == "R" else float
-        inputs.append(Input(str(item["joint"]), scale(_num(item.get("speed", 1.0), f"{where}.speed")),
-                            scale(_num(item.get("acceleration", 0.0), f"{where}.acceleration"))))
-    points = []
-    for k, item in enumerate(data.get("points", [])):
-        where = f"{source}: points[{k}]"
-        _keys(item, {"name", "link", "at"}, {"name", "link", "at"}, where)
-        points.append(CouplerPoint(str(item["name"]), str(item["link"]), _xy(item["at"], f"{where}.at")))
-    polygons = []
-    for k, item in enumerate(data.get("polygons", [])):
-        where = f"{source}: polygons[{k}]"
-        _keys(item, {"name", "link", "vertices"}, {"name", "link", "vertices"}, where)
-        polygons.append(Polygon(str(item["name"]), str(item["link"]),
-                                tuple(_xy(v, f"{where}.vertices[{i}]") for i, v in enumerate(item["vertices"]))))
-    return Mechanism.build(str(data.get("name", source)), links, str(data["ground"]), joints, inputs,
-                           points, polygons, link_angles, source)
-
-
-def load_mechanism(path: str) -> Mechanism:
-    """Read a mechanism file (JSON). Errors name the file, line and field."""
-    try:
-        with open(path, encoding="utf-8") as fh:
-            text = fh.read()
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read: {exc.strerror}") from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}") from None
-    return mechanism_from_dict(data, path)
-
-
-def mechanism_to_dict(mech: Mechanism) -> dict:
-    """The JSON structure of ``mech`` (angles in degrees); inverse of :func:`mechanism_from_dict`."""
-    angles = dict(mech.link_angles)
-    deg = math.degrees
-    out: dict = {"name": mech.name, "angle_unit": "deg", "ground": mech.ground,
-                 "links": [{"name": x, "angle": deg(angles[x])} if x in angles else x for x in mech.links],
-                 "joints": [], "inputs": []}
-    for j in mech.joints:
-        item = {"name": j.name, "type": j.kind, "links": list(j.links), "at": list(j.at)}
-        if j.kind == "P":
-            item["direction"] = deg(j.direction)
-            if j.origin is not None:
-                item["origin"] = list(j.origin)
-        out["joints"].append(item)
-    for i in mech.inputs:
-        scale = deg if mech.joint(i.joint).kind == "R" else float
-        out["inputs"].append({"joint": i.joint, "speed": scale(i.speed), "acceleration": scale(i.acceleration)})
-    if mech.points:
-        out["points"] = [{"name": p.name, "link": p.link, "at": list(p.at)} for p in mech.points]
-    if mech.polygons:
-        out["polygons"] = [{"name": p.name, "link": p.link, "vertices": [list(v) for v in p.vertices]}
-                           for p in mech.polygons]
-    return out
 
 
 def from_labelled(chain, at: Mapping, directions: Mapping | None = None, inputs: Iterable | None = None,

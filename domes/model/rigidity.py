@@ -22,6 +22,7 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from domes.errors import InputError
+from domes.model.mobility import mobility
 
 Edge = tuple[int, int]
 
@@ -50,14 +51,14 @@ def subset_dof_table(n: int, edges: Iterable[Edge]) -> np.ndarray:
     inside = np.zeros(1 << n, dtype=np.int32)
     for u, v in edges:
         inside += ((subsets >> u) & (subsets >> v) & 1).astype(np.int32)
-    return 3 * (subset_sizes(n) - 1) - 2 * inside
+    return mobility(subset_sizes(n), inside)
 
 
 def subchain_dof(n: int, edges: Iterable[Edge], links: Iterable[int]) -> int:
     """``F(S) = 3(|S| − 1) − 2·e(S)`` for one set of links."""
     chosen = set(links)
     inside = sum(1 for u, v in edges if u in chosen and v in chosen)
-    return 3 * (len(chosen) - 1) - 2 * inside
+    return mobility(len(chosen), inside)
 
 
 def rigid_subchain(n: int, edges: Sequence[Edge]) -> list[int] | None:

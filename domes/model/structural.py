@@ -19,6 +19,7 @@ import heapq
 from typing import Sequence
 
 from domes.errors import InputError
+from domes.model.mobility import mobility
 
 Edge = tuple[int, int]
 
@@ -51,8 +52,9 @@ def structural_number(n: int, edges: Sequence[Edge]) -> int:
     >>> structural_number(5, [(0, 1), (1, 2), (2, 0), (0, 3), (3, 4), (4, 1)]) in (0, 1)
     True
     """
-    if 3 * (n - 1) != 2 * len(edges):
-        raise InputError(f"K is defined for zero-DOF chains; {n} links and {len(edges)} joints have DOF {3 * (n - 1) - 2 * len(edges)}")
+    dof = mobility(n, len(edges))
+    if dof != 0:
+        raise InputError(f"K is defined for zero-DOF chains; {n} links and {len(edges)} joints have DOF {dof}")
     adjacency: list[list[tuple[int, int]]] = [[] for _ in range(n)]
     for index, (u, v) in enumerate(edges):
         adjacency[u].append((v, index))

@@ -1,7 +1,7 @@
 """Motion: the kinematics backend (planar now; spatial mechanisms and coupler curves to come).
 
 A :class:`Mechanism` (links, R and P joints in a drawn pose, ground, inputs,
-coupler points) is read from a JSON file (:func:`load_mechanism`) or built
+coupler points) is read from a JSON file (:func:`domes.io.load_mechanism`) or built
 from a labelled candidate plus dimensions (:func:`from_labelled`). A query
 names its outputs and derivative order and solves only the Assur groups they
 depend on (:class:`Kinematics`, :func:`solve`, :func:`sweep`); every step
@@ -23,9 +23,6 @@ from domes.model.mechanism import (
     Mechanism,
     Polygon,
     from_labelled,
-    load_mechanism,
-    mechanism_from_dict,
-    mechanism_to_dict,
 )
 from domes.motion.planar.query import PRESETS, Accuracy, Kinematics, Step, accuracy
 from domes.motion.planar.structure import Structure
@@ -33,6 +30,5 @@ from domes.motion.planar.sweep import DeadPoint, Sweep, solve, sweep
 
 __all__ = [
     "Accuracy", "CouplerPoint", "DeadPoint", "Input", "Joint", "Kinematics", "Mechanism", "PRESETS", "Polygon",
-    "Step", "Structure", "Sweep", "accuracy", "from_labelled", "load_mechanism", "mechanism_from_dict",
-    "mechanism_to_dict", "solve", "sweep",
+    "Step", "Structure", "Sweep", "accuracy", "from_labelled", "solve", "sweep",
 ]

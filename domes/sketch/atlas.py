@@ -14,8 +14,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Iterable, Sequence
 
-from domes.model.chain import Chain
 from domes.errors import DomesError
+from domes.model.chain import Chain
 from domes.sketch.draw import SIZE, chain_svg
 from domes.sketch.layout import SkeletonLayout, skeleton_layout
 from domes.sketch.mechanism import mechanism_svg
@@ -154,7 +154,7 @@ def candidate_card(candidate) -> Card:
     (a red frame) and the design's name among its properties. Should the
     sketch fail, the card gets a placeholder and the reason.
     """
-    m = candidate.mechanism
+    m = candidate.labelled
     name = Chain(m.n, m.edges).common_name
     properties = (
         ("chain", f"No. {candidate.chain_index}" + (f" ({name})" if name else "")),
@@ -172,7 +172,9 @@ def candidate_card(candidate) -> Card:
 def regeneration_html(result, *, new_only: bool = False) -> str:
     """The atlas page of a regeneration (``domes.typesynth.Regeneration``): one card per candidate.
 
-    >>> from domes.typesynth import load_scene, regenerate
+    >>> from domes.io.scenes import load_scene
+
+    >>> from domes.typesynth import regenerate
     >>> page = regeneration_html(regenerate(load_scene("motorcycle")))
     >>> page.count('data-id="'), page.count('class="card marked"')
     (6, 1)

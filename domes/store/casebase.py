@@ -32,11 +32,17 @@ from sqlalchemy.exc import ArgumentError, SQLAlchemyError
 from sqlalchemy.orm import Session
 
 from domes.errors import DomesError, InputError
-from domes.knowledge.frames import CriterionFrame
-from domes.store.models import SCHEMA_VERSIONS, Base, CriterionRow, ProblemRow, SchemaVersion
-from domes.knowledge.problems import ProblemFrame
 from domes.io.criteria import check_unique, read_cases, read_knowledge
 from domes.io.resources import knowledge_dir, repo_root
+from domes.knowledge.frames import CriterionFrame
+from domes.knowledge.problems import ProblemFrame
+from domes.store.models import (
+    SCHEMA_VERSIONS,
+    Base,
+    CriterionRow,
+    ProblemRow,
+    SchemaVersion,
+)
 
 DB_ENV = "DOMES_DB"
 DEFAULT_DB_NAME = "casebase.db"
@@ -149,7 +155,7 @@ class KnowledgeBase:
     @staticmethod
     def _frame(row: CriterionRow) -> CriterionFrame:
         try:
-            return CriterionFrame.from_record(row.record())
+            return row.frame()
         except DomesError as exc:
             raise InputError(f"stored criterion {row.id!r} is damaged: {exc}; run `domes kb check`") from None
 
@@ -159,6 +165,24 @@ class KnowledgeBase:
         if row is None:
             raise InputError(f"no criterion with id {criterion_id!r} in the knowledge base (see `domes kb list`)")
         return row
+
+    def check(self) -> list[str]:
+        """What is wrong with the stored criteria: each one re-parsed from its text must give the stored trees."""
+        problems = []
+        for frame in self.frames():
+            try:
+                fresh = CriterionFrame.create(
+                    frame.id, frame.text, frame.explanation, frame.keywords, frame.relevance_text, frame.level,
+                    frame.source, frame.date, frame.enabled,
+                )
+            except DomesError as exc:
+                problems.append(f"{frame.id}: {exc}")
+                continue
+            if fresh.tree != frame.tree:
+                problems.append(f"{frame.id}: the stored tree differs from the parse of its text")
+            if fresh.relevance != frame.relevance:
+                problems.append(f"{frame.id}: the stored relevance differs from the parse of its relevance text")
+        return problems
 
     # -- editing: each method one transaction --------------------------------------------
 
@@ -170,7 +194,7 @@ class KnowledgeBase:
         number = session.scalar(select(func.max(CriterionRow.number))) or 0
         for frame in frames:
             number += 1
-            session.add(CriterionRow(number=number, **frame.to_record()))
+            session.add(CriterionRow(number=number, **CriterionRow.columns_of(frame)))
 
     def add(self, frame: CriterionFrame) -> None:
         """Add one frame; a duplicate id is refused."""
@@ -187,7 +211,7 @@ class KnowledgeBase:
         """Replace the stored frame that has ``frame.id`` (its position is kept)."""
         with Session(self.engine) as session, session.begin():
             row = self._row(session, frame.id)
-            for column, value in frame.to_record().items():
+            for column, value in CriterionRow.columns_of(frame).items():
                 setattr(row, column, value)
 
     def remove(self, criterion_id: str) -> None:
@@ -214,7 +238,7 @@ class KnowledgeBase:
     @staticmethod
     def _problem(row: ProblemRow) -> ProblemFrame:
         try:
-            return ProblemFrame.from_mapping(row.frame)
+            return ProblemFrame.from_dict(row.frame)
         except DomesError as exc:
             raise InputError(f"stored case {row.id!r} is damaged: {exc}; rebuild with `domes kb build`") from None
 
@@ -227,9 +251,9 @@ class KnowledgeBase:
                 raise InputError(f"a case with id {frame.id!r} is already in the case base")
             if row is None:
                 number += 1
-                session.add(ProblemRow(id=frame.id, number=number, problem_class=frame.problem_class, frame=frame.to_mapping()))
+                session.add(ProblemRow(id=frame.id, number=number, problem_class=frame.problem_class, frame=frame.to_dict()))
             else:
-                row.problem_class, row.frame = frame.problem_class, frame.to_mapping()
+                row.problem_class, row.frame = frame.problem_class, frame.to_dict()
 
     def retain(self, frame: ProblemFrame, replace: bool = False) -> None:
         """Store a solved problem (one transaction); an existing id is refused unless ``replace``."""

@@ -18,6 +18,9 @@ from typing import Any
 from sqlalchemy import JSON, Boolean, Integer, String, Text
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 
+from domes.knowledge.frames import CriterionFrame
+from domes.language.tree import category, from_json, to_json
+
 #: Schema version of each component of the case base.
 SCHEMA_VERSIONS: dict[str, int] = {"knowledge": 1, "cases": 1}
 
@@ -58,14 +61,25 @@ class CriterionRow(Base):
     date: Mapped[str] = mapped_column(String(10))
     enabled: Mapped[bool] = mapped_column(Boolean)
 
-    #: Columns that hold a frame field (all but ``number``).
-    FRAME_COLUMNS = (
-        "id", "text", "tree", "category", "explanation", "keywords", "relevance_text", "relevance", "level",
-        "source", "date", "enabled",
-    )
+    @classmethod
+    def columns_of(cls, frame: CriterionFrame) -> dict[str, Any]:
+        """The stored columns of a frame: its text and its parsed trees as JSON."""
+        return {
+            "id": frame.id, "text": frame.text, "tree": to_json(frame.tree), "category": frame.category,
+            "explanation": frame.explanation, "keywords": list(frame.keywords), "relevance_text": frame.relevance_text,
+            "relevance": to_json(frame.relevance), "level": frame.level, "source": frame.source, "date": frame.date,
+            "enabled": frame.enabled,
+        }
 
-    def record(self) -> dict[str, Any]:
-        return {c: getattr(self, c) for c in self.FRAME_COLUMNS}
+    def frame(self) -> CriterionFrame:
+        """The frame of this row: the stored trees are decoded and validated, not re-parsed."""
+        tree = from_json(self.tree, "tree", "criterion")
+        relevance = from_json(self.relevance, "relevance", "relevance")
+        return CriterionFrame(
+            id=self.id, text=self.text, tree=tree, category=category(tree), explanation=self.explanation,
+            keywords=tuple(self.keywords), relevance_text=self.relevance_text, relevance=relevance, level=self.level,
+            source=self.source, date=self.date, enabled=bool(self.enabled),
+        )
 
 
 class ProblemRow(Base):

@@ -21,12 +21,19 @@ from domes.typesynth.number import (
     link_assortments,
     number_synthesis,
 )
-from domes.typesynth.regenerate import Candidate, EmptyStage, Regeneration, StageResult, particularize, regenerate
-from domes.typesynth.scene import Scene, Stage, load_scene, parse_scene, scene_names
+from domes.typesynth.regenerate import (
+    Candidate,
+    EmptyStage,
+    Regeneration,
+    StageResult,
+    particularize,
+    regenerate,
+)
+from domes.typesynth.scene import Particularization, Scene, Stage
 
 __all__ = [
     "Candidate", "ChainGenerator", "EmptyStage", "Generalization", "ISOMORPHISM_METHODS", "LinkAssortment",
     "NumberSynthesis", "Regeneration", "Scene", "Stage", "StageResult", "chain_joints", "chain_loops", "chains",
-    "generalize", "label_joints", "link_assortments", "load_scene", "number_synthesis", "parse_scene",
-    "particularize", "regenerate", "scene_names",
+    "generalize", "label_joints", "link_assortments", "number_synthesis", "Particularization",
+    "particularize", "regenerate",
 ]

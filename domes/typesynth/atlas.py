@@ -35,15 +35,16 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Iterable
+from typing import Callable
 
 import numpy as np
 
-from domes.model.canon import automorphisms, canonical_form, certificate
-from domes.model.charpoly import characteristic_polynomial
-from domes.model.rigidity import pair_slack
 from domes.errors import InputError
-from domes.typesynth.number import chain_joints
+from domes.model.canon import automorphisms, canonical_form, certificate
+from domes.model.chain import Chain
+from domes.model.charpoly import characteristic_polynomial
+from domes.model.mobility import chain_joints
+from domes.model.rigidity import pair_slack
 
 Edge = tuple[int, int]
 Graph = tuple[int, tuple[Edge, ...]]  # (links, joints) with links 0..n-1
@@ -209,50 +210,38 @@ class ChainGenerator:
         return result
 
 
-_DEFAULT = ChainGenerator()
-
-
-def atlas(links: int, dof: int, include_fractionated: bool = False) -> list[Graph]:
-    """Edge lists of all chains, from the process-wide generator (each atlas built once)."""
-    return _DEFAULT.chains(links, dof, include_fractionated)
-
-
-def clear_cache() -> None:
-    """Forget every atlas built so far (benchmarks time cold runs with it)."""
-    _DEFAULT._blocks.clear()
-    _DEFAULT._all.clear()
-
-
-def generate(
-    links: int,
-    dof: int,
-    include_fractionated: bool = False,
-    isomorphism: str = "nauty",
-    progress: ProgressFn | None = None,
-) -> list[Graph]:
-    """Edge lists of all chains (see :class:`ChainGenerator`); cached per process for nauty."""
-    if isomorphism == "nauty" and progress is None:
-        return atlas(links, dof, include_fractionated)
-    return ChainGenerator(isomorphism=isomorphism, progress=progress).chains(links, dof, include_fractionated)
-
-
-def chains_from_edges(graphs: Iterable[Graph]):
-    """Wrap edge lists as :class:`domes.model.chain.Chain` objects."""
-    from domes.model.chain import Chain
-
-    return [Chain(n, edges) for n, edges in graphs]
-
-
-def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism: str = "nauty", progress: ProgressFn | None = None):
+def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism: str = "nauty",
+           progress: ProgressFn | None = None, generator: ChainGenerator | None = None) -> list[Chain]:
     """Every non-isomorphic, non-degenerate planar chain of revolute joints.
 
     Chains with a cut link (fractionated) are left out unless
-    ``include_fractionated``. Returns :class:`~domes.model.chain.Chain`
-    objects, canonically labelled, sorted by link assortment.
+    ``include_fractionated``. Returns :class:`~domes.model.Chain` objects,
+    canonically labelled, sorted by link assortment. ``generator`` (a
+    :class:`ChainGenerator`) keeps the atlases built, for callers that ask
+    again; by default each call builds its own.
 
     >>> len(chains(links=10, dof=1))
     230
     >>> len(chains(links=9, dof=2, include_fractionated=True))
     40
     """
-    return chains_from_edges(generate(links, dof, include_fractionated, isomorphism, progress))
+    if generator is None:
+        generator = ChainGenerator(isomorphism=isomorphism, progress=progress)
+    elif generator.isomorphism != isomorphism:
+        raise InputError(f"the generator removes duplicates by {generator.isomorphism!r}, not {isomorphism!r}")
+    return [Chain(n, edges) for n, edges in generator.chains(links, dof, include_fractionated)]
+
+
+def atlas_position(chain: Chain, generator: ChainGenerator | None = None) -> int | None:
+    """The 1-based position of ``chain`` in its atlas (with cut links if it has one), or None.
+
+    ``domes chains --links n --dof F [--include-fractionated]`` lists the chain
+    at this position; a degenerate, disconnected or loop-free chain has none.
+
+    >>> atlas_position(Chain.from_graph6("ErOg"))   # the Stephenson chain
+    1
+    """
+    if chain.dof < 0 or chain.loops < 1 or not chain.is_connected or chain.is_degenerate:
+        return None
+    listed = (generator or ChainGenerator()).chains(chain.n, chain.dof, include_fractionated=bool(chain.cut_links))
+    return next((i for i, (n, e) in enumerate(listed, 1) if Chain(n, e) == chain), None)

@@ -18,9 +18,8 @@ The frame and the driver are released: ``ground`` and ``input`` roles are
 dropped. Other roles are not part of the chain either; the mechanism keeps
 them.
 
->>> from domes.io.topology import Mechanism
->>> cam = Mechanism.build("cam", [("0", ["ground"]), ("1", ["input"]), ("2", [])],
-...                       [("", "0", "1", "R"), ("", "1", "2", "C"), ("", "2", "0", "P")])
+>>> cam = LabelledChain.from_named("cam", [("0", ["ground"]), ("1", ["input"]), ("2", [])],
+...                                [("", "0", "1", "R"), ("", "1", "2", "C"), ("", "2", "0", "P")])
 >>> g = generalize(cam)
 >>> g.chain.n, g.chain.joint_types, g.link_names[-1]
 (4, ('R', 'P', 'R', 'R'), 'HS(1-2)')
@@ -32,7 +31,7 @@ from dataclasses import dataclass
 
 from domes.model.chain import Chain
 from domes.model.labelled import LabelledChain
-from domes.io.topology import Mechanism
+from domes.typesynth.atlas import ChainGenerator, atlas_position
 
 #: Joint types replaced by a binary ``HS`` link (higher pairs).
 HIGHER_PAIRS = {"G", "C"}
@@ -44,33 +43,56 @@ MARKED_REVOLUTES = {"P"}
 
 @dataclass(frozen=True)
 class Generalization:
-    """The generalized chain of a mechanism, and the names of its links."""
+    """A mechanism (``original``) and its generalized chain (``chain``, whose links are named)."""
 
-    mechanism: Mechanism
+    original: LabelledChain
     chain: LabelledChain
-    link_names: tuple[str, ...]
+
+    @property
+    def link_names(self) -> tuple[str, ...]:
+        """The names of the generalized chain's links (the original's, then the links added)."""
+        return tuple(self.chain.link_name(v) for v in range(self.chain.n))
 
     @property
     def unlabelled(self) -> Chain:
         """The chain without marks (for lookup in the atlas)."""
         return Chain(self.chain.n, self.chain.edges)
 
+    def to_dict(self, generator: ChainGenerator | None = None) -> dict:
+        """The generalized chain as plain data, with its position in the atlas (``atlas_position``)."""
+        chain = self.unlabelled
+        return {
+            "mechanism": self.original.name,
+            "links": chain.n,
+            "joints": chain.joints,
+            "dof": chain.dof,
+            "loops": chain.loops,
+            "link_names": list(self.link_names),
+            "edges": [list(e) for e in self.chain.edges],
+            "marks": self.marks,
+            "chain": chain.common_name,
+            "atlas_position": atlas_position(chain, generator),
+            "degenerate": chain.is_degenerate,
+            "graph6": chain.graph6,
+        }
+
     @property
     def marks(self) -> dict[str, list[str]]:
         """Marked joints (``"a-b"`` by link names) and marked links, by mark."""
+        names = self.link_names
         out: dict[str, list[str]] = {}
         for (u, v), t in zip(self.chain.edges, self.chain.joint_types):
             if t != "R":
-                out.setdefault(t, []).append(f"{self.link_names[u]}-{self.link_names[v]}")
+                out.setdefault(t, []).append(f"{names[u]}-{names[v]}")
         for v, roles in enumerate(self.chain.roles):
             for r in roles:
-                out.setdefault(r, []).append(self.link_names[v])
+                out.setdefault(r, []).append(names[v])
         return out
 
 
-def generalize(mechanism: Mechanism) -> Generalization:
+def generalize(mechanism: LabelledChain) -> Generalization:
     """The generalized chain of revolute joints (see the module doc)."""
-    names = list(mechanism.link_names)
+    names = [mechanism.link_name(v) for v in range(mechanism.n)]
     roles: dict[int, set[str]] = {}
     edges: list[tuple[int, int]] = []
     marks: list[str] = []
@@ -79,20 +101,19 @@ def generalize(mechanism: Mechanism) -> Generalization:
         names.append(name)
         return len(names) - 1
 
-    for joint in mechanism.joints:
-        a, b = joint.links
-        label = joint.name or f"{mechanism.link_names[a]}-{mechanism.link_names[b]}"
-        if joint.type in HIGHER_PAIRS:
+    for i, ((a, b), kind) in enumerate(zip(mechanism.edges, mechanism.joint_types)):
+        label = mechanism.joint_name(i)
+        if kind in HIGHER_PAIRS:
             hs = new_link(f"HS({label})")
             roles[hs] = {"HS"}
             edges += [(a, hs), (hs, b)]
             marks += ["R", "R"]
-        elif joint.type in ELEMENTS:
-            first, second = new_link(f"{joint.type}({label}).1"), new_link(f"{joint.type}({label}).2")
+        elif kind in ELEMENTS:
+            first, second = new_link(f"{kind}({label}).1"), new_link(f"{kind}({label}).2")
             edges += [(a, first), (first, second), (second, b)]
-            marks += ["R", joint.type, "R"]
+            marks += ["R", kind, "R"]
         else:
             edges.append((a, b))
-            marks.append(joint.type if joint.type in MARKED_REVOLUTES else "R")
-    chain = LabelledChain.build(len(names), edges, marks, roles)
-    return Generalization(mechanism, chain, tuple(names))
+            marks.append(kind if kind in MARKED_REVOLUTES else "R")
+    chain = LabelledChain.build(len(names), edges, marks, roles, name=mechanism.name, link_names=names)
+    return Generalization(mechanism, chain)

@@ -29,8 +29,8 @@ from typing import Iterable, Mapping
 
 import networkx as nx
 
-from domes.model.chain import Chain
 from domes.errors import InputError
+from domes.model.chain import Chain
 from domes.model.labelled import JOINT_TYPES, LabelledChain
 
 

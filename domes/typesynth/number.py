@@ -16,10 +16,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from domes.errors import DomesError, InputError
+from domes.errors import InputError
+from domes.model.mobility import (
+    PLANAR,
+    SPATIAL,
+    chain_joints,
+    chain_loops,
+    check_count,
+    mobility,
+)
 
-#: Motion-space DOF λ of a planar and of a spatial mechanism.
-PLANAR, SPATIAL = 3, 6
+__all__ = ["LinkAssortment", "NumberSynthesis", "chain_joints", "chain_loops", "link_assortments", "number_synthesis"]
 
 
 @dataclass(frozen=True)
@@ -38,14 +45,6 @@ class NumberSynthesis:
     joints: int
 
 
-def _check_int(name: str, value: object, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise InputError(f"{name} must be an integer, got {value!r}")
-    if value < minimum:
-        raise InputError(f"{name} must be >= {minimum}, got {value}")
-    return value
-
-
 def number_synthesis(dof: int, loops: int, space: int = PLANAR, gear_pairs: int = 0) -> NumberSynthesis:
     """Links ``i`` and joints ``j`` for DOF ``W``, loops ``L_ind``, λ and ``j_G``.
 
@@ -56,13 +55,14 @@ def number_synthesis(dof: int, loops: int, space: int = PLANAR, gear_pairs: int 
     >>> number_synthesis(dof=1, loops=2, gear_pairs=1)
     NumberSynthesis(dof=1, loops=2, space=3, gear_pairs=1, links=5, joints=6)
     """
-    _check_int("dof (W)", dof, 0)
-    _check_int("loops (L_ind)", loops, 0)
-    _check_int("gear_pairs (j_G)", gear_pairs, 0)
+    check_count("dof (W)", dof, 0)
+    check_count("loops (L_ind)", loops, 0)
+    check_count("gear_pairs (j_G)", gear_pairs, 0)
     if space not in (PLANAR, SPATIAL):
         raise InputError(f"space (λ) must be 3 (planar) or 6 (spatial), got {space!r}")
-    links = dof + (space - 1) * loops - gear_pairs + 1
-    joints = dof + space * loops - gear_pairs
+    joints = dof + space * loops - gear_pairs  # W = λ(i − j − 1) + j + j_G with i − j − 1 = −L
+    links = joints - loops + 1
+    assert mobility(links, joints, space, freedom=joints + gear_pairs) == dof
     if gear_pairs > joints:
         raise InputError(
             f"{gear_pairs} gear pairs cannot fit in a chain of {joints} joints "
@@ -74,39 +74,6 @@ def number_synthesis(dof: int, loops: int, space: int = PLANAR, gear_pairs: int 
             "no mechanism has fewer than 2 links; use fewer gear pairs or more loops"
         )
     return NumberSynthesis(dof, loops, space, gear_pairs, links, joints)
-
-
-def chain_joints(links: int, dof: int) -> int:
-    """Joints of a planar chain of revolute joints: ``j = (3(n − 1) − F)/2``.
-
-    >>> chain_joints(10, 1)
-    13
-    >>> chain_joints(5, 1)
-    Traceback (most recent call last):
-    ...
-    domes.errors.InputError: no planar chain of simple revolute joints has 5 links and DOF 1: the joint count (3(n-1) - F)/2 = 11/2 is not an integer; try 4 or 6 links
-    """
-    _check_int("links", links, 1)
-    _check_int("dof", dof, 0)
-    twice = 3 * (links - 1) - dof
-    if twice % 2:
-        raise InputError(
-            f"no planar chain of simple revolute joints has {links} links and DOF {dof}: "
-            f"the joint count (3(n-1) - F)/2 = {twice}/2 is not an integer; "
-            f"try {links - 1} or {links + 1} links"
-        )
-    if twice < 0:
-        raise InputError(f"a chain of {links} links cannot have DOF {dof} (at most {3 * (links - 1)})")
-    return twice // 2
-
-
-def chain_loops(links: int, dof: int) -> int:
-    """Independent loops ``L = j − n + 1`` of a planar revolute chain.
-
-    >>> chain_loops(12, 1)
-    5
-    """
-    return chain_joints(links, dof) - links + 1
 
 
 @dataclass(frozen=True)
@@ -157,12 +124,12 @@ def link_assortments(links: int, joints: int, max_degree: int | None = None) -> 
     >>> [a.as_tuple() for a in link_assortments(8, 10)]
     [(6, 0, 2), (5, 2, 1), (4, 4)]
     """
-    _check_int("links", links, 1)
-    _check_int("joints", joints, 0)
+    check_count("links", links, 1)
+    check_count("joints", joints, 0)
     loops = joints - links + 1
     if loops < 1:
         raise InputError(f"{links} links and {joints} joints form no closed loop (L = j - n + 1 = {loops})")
-    top = max(2, loops + 1) if max_degree is None else _check_int("max_degree", max_degree, 2)
+    top = max(2, loops + 1) if max_degree is None else check_count("max_degree", max_degree, 2)
     excess = 2 * joints - 2 * links  # Σ (d − 2)·n_d
     found: list[LinkAssortment] = []
 

@@ -13,7 +13,7 @@ result is checked once more.
 analysis (every choice on the numbered links of each chain): the book's
 divergence product ``S_i = Π n_j`` (§3-3-II), with ``n_i = raw_i / raw_{i−1}``.
 
->>> from domes.typesynth.scene import load_scene
+>>> from domes.io.scenes import load_scene
 >>> result = regenerate(load_scene("motorcycle"))
 >>> [(s.name, s.count) for s in result.stages]
 [('ground', 5), ('shock absorber', 4), ('swing arm', 10), ('swing arm adjacent to ground', 6)]
@@ -25,12 +25,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from itertools import combinations
-from typing import Callable
 
-from domes.typesynth.atlas import atlas
 from domes.errors import InputError, NothingToPropose
 from domes.language.evaluate import graph_features
+from domes.model.chain import Chain
 from domes.model.labelled import LabelledChain
+from domes.results import Progress, Result, Status
+from domes.typesynth.atlas import ChainGenerator
 from domes.typesynth.scene import Scene, Stage
 
 
@@ -53,27 +54,56 @@ class Candidate:
     """A regenerated mechanism: the particularized labelled chain and where it came from."""
 
     id: int
-    mechanism: LabelledChain
+    labelled: LabelledChain
     chain_index: int  # 1-based position of its chain in the atlas
     existing: tuple[str, ...]  # names of the existing designs it equals
 
-    def as_dict(self) -> dict:
+    def to_dict(self) -> dict:
         return {
             "id": self.id,
             "existing": bool(self.existing),
             "existing_designs": list(self.existing),
             "chain": self.chain_index,
-            **self.mechanism.to_dict(),
+            **self.labelled.to_dict(),
         }
 
 
 @dataclass(frozen=True)
-class Regeneration:
-    """The result of a scene: stage counts and the final candidates."""
+class Regeneration(Result):
+    """The result of a scene: stage counts, the final candidates, and the chains they came from.
+
+    ``status`` is :attr:`~domes.results.Status.COMPLETE` when some candidate
+    is left, :attr:`~domes.results.Status.EMPTY` when a screen removed them all.
+    """
 
     scene: Scene
     stages: tuple[StageResult, ...]
     candidates: tuple[Candidate, ...]
+    chains: tuple[Chain, ...] = ()
+
+    @property
+    def status(self) -> Status:
+        return Status.COMPLETE if self.candidates else Status.EMPTY
+
+    @property
+    def message(self) -> str:
+        existing = sum(1 for c in self.candidates if c.existing)
+        if not self.candidates:
+            last = next((s.name for s in self.stages if s.count == 0), self.stages[-1].name if self.stages else "")
+            return f"no candidate left: stage {last!r} removed the last ones"
+        return (f"{len(self.candidates)} candidates ({existing} existing, {len(self.candidates) - existing} new) "
+                f"from {len(self.chains)} chains of {self.scene.links} links")
+
+    def chain_name(self, index: int) -> str | None:
+        """The common name (four-bar, Watt, Stephenson) of chain ``index`` (1-based), if it has one."""
+        return self.chains[index - 1].common_name if 0 < index <= len(self.chains) else None
+
+    def per_chain(self) -> dict[int, int]:
+        """How many candidates each chain gave (chain index -> count)."""
+        out: dict[int, int] = {}
+        for c in self.candidates:
+            out[c.chain_index] = out.get(c.chain_index, 0) + 1
+        return dict(sorted(out.items()))
 
     def divergence_numbers(self) -> list[float]:
         """``n_i = S_i / S_{i−1}`` per stage (``S_0`` = the number of chains)."""
@@ -83,7 +113,7 @@ class Regeneration:
             previous = s.raw
         return out
 
-    def as_dict(self, new_only: bool = False) -> dict:
+    def to_dict(self, new_only: bool = False) -> dict:
         return {
             "scene": self.scene.name,
             "title": self.scene.title,
@@ -93,7 +123,7 @@ class Regeneration:
                 {"name": s.name, "count": s.count, "raw": s.raw, **({"book": s.book} if s.book is not None else {})}
                 for s in self.stages
             ],
-            "candidates": [c.as_dict() for c in self.candidates if not (new_only and c.existing)],
+            "candidates": [c.to_dict() for c in self.candidates if not (new_only and c.existing)],
         }
 
 
@@ -117,7 +147,7 @@ def _keeps(chain: LabelledChain, stage: Stage) -> bool:
 def _orbit_representatives(chain: LabelledChain, choices: list[tuple[int, ...]]) -> list[tuple[int, ...]]:
     if len(choices) <= 1:
         return choices
-    group = chain.automorphisms()
+    group = chain.automorphisms
     if len(choices[0]) == 2:
         return [tuple(p) for p in group.pair_orbit_representatives(choices)]
     seen, reps = set(), []
@@ -143,19 +173,24 @@ def particularize(chain: LabelledChain, scene: Scene) -> LabelledChain:
         for i, (u, v) in enumerate(chain.edges):
             if (a in chain.roles[u] and b in chain.roles[v]) or (b in chain.roles[u] and a in chain.roles[v]):
                 types[i] = rule.joint
-    return LabelledChain.build(chain.n, chain.edges, types, dict(enumerate(chain.roles)))
+    return chain.with_joint_types(types)
 
 
-def regenerate(scene: Scene, progress: Callable[[str], None] | None = None) -> Regeneration:
-    """Run every stage of ``scene`` (see the module doc)."""
-    chains = atlas(scene.links, scene.dof, scene.include_fractionated)
-    if not chains:
+def regenerate(scene: Scene, progress: Progress | None = None, generator: ChainGenerator | None = None) -> Regeneration:
+    """Run every stage of ``scene`` (see the module doc).
+
+    ``generator`` is the :class:`~domes.typesynth.atlas.ChainGenerator` whose
+    atlas the scene's chains come from (default: a new one).
+    """
+    graphs = (generator or ChainGenerator()).chains(scene.links, scene.dof, scene.include_fractionated)
+    if not graphs:
         raise InputError(f"scene {scene.name!r}: there are no chains with {scene.links} links and DOF {scene.dof}")
+    chains = tuple(Chain(n, edges) for n, edges in graphs)
     # (labelled chain, index of its chain in the atlas, |Aut| of that chain)
     current = []
-    for index, (n, edges) in enumerate(chains, 1):
+    for index, (n, edges) in enumerate(graphs, 1):
         chain = LabelledChain.build(n, edges)
-        current.append((chain, index, chain.automorphisms().order))
+        current.append((chain, index, chain.automorphisms.order))
     results = []
     for number, stage in enumerate(scene.stages):
         following = []
@@ -177,17 +212,18 @@ def regenerate(scene: Scene, progress: Callable[[str], None] | None = None) -> R
             )
         current = following
         # Each class stands for |Aut(chain)| / |Aut(labelled)| numbered assignments.
-        raw = sum(order // chain.automorphisms().order for chain, _, order in current)
+        raw = sum(order // chain.automorphisms.order for chain, _, order in current)
         book = scene.book_counts[number] if scene.book_counts else None
         results.append(StageResult(stage.name, len(current), raw, book))
         if progress:
             progress(f"stage {number + 1}/{len(scene.stages)} {stage.name}: {len(current)} (raw {raw})")
     scene_roles = set(scene.roles)
-    known = [(m.name, m.labelled(scene_roles).certificate) for m in scene.existing]
+    known = [(m.name, m.with_roles({v: r & scene_roles for v, r in enumerate(m.roles)}).certificate)
+             for m in scene.existing]
     candidates = []
     ordered = sorted(current, key=lambda item: (item[1], item[0].certificate))
     for number, (chain, index, _) in enumerate(ordered, 1):
         mechanism = particularize(chain, scene)
         existing = tuple(name for name, cert in known if cert == mechanism.certificate)
         candidates.append(Candidate(number, mechanism, index, existing))
-    return Regeneration(scene, tuple(results), tuple(candidates))
+    return Regeneration(scene, tuple(results), tuple(candidates), chains)

@@ -7,10 +7,11 @@ of the shipped case base, and checks the stored frames and relevance vectors.
 import pytest
 
 from domes.errors import DomesError
+from domes.expert.dialogue import Dialogue
 from domes.expert.replay import replay
-from domes.expert.dialogue import Session, parse_answers
-from domes.store.casebase import KnowledgeBase
 from domes.io.resources import knowledge_dir
+from domes.io.transcripts import parse_answers
+from domes.store.casebase import KnowledgeBase
 
 MOTORCYCLE = (knowledge_dir().parent / "examples" / "design" / "motorcycle.answers").read_text()
 CASE = "motorcycle-rear-suspension-1"
@@ -18,7 +19,7 @@ CASE = "motorcycle-rear-suspension-1"
 
 def run(casebase, text, **kwargs):
     messages = []
-    outcome = Session(casebase, parse_answers(text), interactive=False, out=messages.append, **kwargs).run()
+    outcome = Dialogue(casebase, parse_answers(text), interactive=False, out=messages.append, **kwargs).run()
     return outcome, "\n".join(messages)
 
 
@@ -146,11 +147,11 @@ def test_verification_of_a_candidate(casebase):
     # kinematics backend's own answer.
     import math
 
-    from domes.motion import load_mechanism
+    from domes.io.mechanisms import load_mechanism
     from domes.motion.planar import checks
 
     outcome, said = run(casebase, MOTORCYCLE.replace("class: motorcycle rear suspension\n", "class: test suspension\n"))
     note = next(n for n in outcome.frame.notes if n.startswith("verified candidate 2"))
-    mech = load_mechanism(str(knowledge_dir().parent / "examples" / "design" / "suzuki-rm250x.json"))
+    mech = load_mechanism(knowledge_dir() / "mechanisms" / "suzuki-rm250x.json")
     r = checks.output_range(mech, "slide:g", math.radians(-10), math.radians(10))
     assert f"travel {r.travel:.6g}" in note

@@ -2,8 +2,8 @@
 
 import doctest
 
-from domes.store.casebase import build
 from domes.io.resources import repo_root
+from domes.store.casebase import build
 
 
 def test_docs_examples(tmp_path, monkeypatch):

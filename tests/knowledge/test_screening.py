@@ -5,15 +5,15 @@ import json
 
 import pytest
 
-from domes.typesynth import chains
 from domes.errors import DomesError
-from domes.language.evaluate import compile_criterion, graph_features
+from domes.io.criteria import read_knowledge
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.relevance import Problem, RelevanceVector, relevance_vector
 from domes.knowledge.screening import CostlyCriterion, screen
-from domes.io.criteria import read_knowledge
-from domes.store.casebase import repo_root
+from domes.language.evaluate import compile_criterion, graph_features
 from domes.model import LabelledChain
+from domes.store.casebase import repo_root
+from domes.typesynth import chains
 
 
 def motorcycle_candidates():

@@ -7,11 +7,12 @@ import pytest
 
 from domes.cli import main
 from domes.errors import DomesError
-from domes.knowledge.frames import CriterionFrame
-from domes.store.models import SCHEMA_VERSIONS
 from domes.io.criteria import read_cases, read_file, read_knowledge
-from domes.store.casebase import KnowledgeBase, build
 from domes.io.resources import repo_root
+from domes.knowledge.frames import CriterionFrame
+from domes.language.tree import to_json
+from domes.store.casebase import KnowledgeBase, build
+from domes.store.models import SCHEMA_VERSIONS
 
 SHIPPED = repo_root() / "knowledge"
 
@@ -163,7 +164,7 @@ def test_edits_are_applied(db, capsys):
 def test_check_finds_a_tree_that_does_not_match_its_text(db, capsys):
     frame = CriterionFrame.create("x", "every vertex must have degree 2")
     with sqlite3.connect(db) as conn:
-        conn.execute("UPDATE criteria SET tree = ? WHERE id = 'book-i'", (json.dumps(frame.to_record()["tree"]),))
+        conn.execute("UPDATE criteria SET tree = ? WHERE id = 'book-i'", (json.dumps(to_json(frame.tree)),))
     status, _, err = run(capsys, "kb", "check", "--db", str(db))
     assert status == 2 and "book-i: the stored tree differs" in err
 

@@ -9,12 +9,39 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from domes.language.evaluate import compile_criterion, graph_features
-from domes.language.parse import KEYWORDS, CriterionSyntaxError, parse_criterion, parse_relevance
+from domes.language.parse import (
+    KEYWORDS,
+    CriterionSyntaxError,
+    parse_criterion,
+    parse_relevance,
+)
 from domes.language.render import render_criterion, render_relevance
 from domes.language.tree import (
-    PROBLEM_ATTRIBUTES, Adjacent, AllOf, Always, And, AnyOf, Attribute, ClassIs, Comparison, Count, Distance,
-    Domain, ForAll, HasMember, HasName, InLoop, JointCount, NoneOf, Not, Or, Represents, SharesJoint, TypeIs,
-    from_json, to_json,
+    PROBLEM_ATTRIBUTES,
+    Adjacent,
+    AllOf,
+    Always,
+    And,
+    AnyOf,
+    Attribute,
+    ClassIs,
+    Comparison,
+    Count,
+    Distance,
+    Domain,
+    ForAll,
+    HasMember,
+    HasName,
+    InLoop,
+    JointCount,
+    NoneOf,
+    Not,
+    Or,
+    Represents,
+    SharesJoint,
+    TypeIs,
+    from_json,
+    to_json,
 )
 from domes.model import LabelledChain
 

@@ -3,13 +3,33 @@
 import pytest
 
 from domes.errors import DomesError
-from domes.language.parse import CriterionSyntaxError, parse_criterion, parse_relevance, tokenize
-from domes.language.render import render_criterion, render_relevance
 from domes.io.criteria import read_knowledge
 from domes.io.resources import repo_root
+from domes.language.parse import (
+    CriterionSyntaxError,
+    parse_criterion,
+    parse_relevance,
+    tokenize,
+)
+from domes.language.render import render_criterion, render_relevance
 from domes.language.tree import (
-    Adjacent, AllOf, And, Attribute, Comparison, Count, Distance, Domain, ForAll, HasName, JointCount, Not,
-    Represents, TypeIs, category, from_json, to_json,
+    Adjacent,
+    AllOf,
+    And,
+    Attribute,
+    Comparison,
+    Count,
+    Distance,
+    Domain,
+    ForAll,
+    HasName,
+    JointCount,
+    Not,
+    Represents,
+    TypeIs,
+    category,
+    from_json,
+    to_json,
 )
 
 # Seed 002 (Wang 1996), §7-2, knowledge-engineer module; digest part 4.5: the six

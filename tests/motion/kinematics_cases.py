@@ -5,7 +5,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from domes.motion import Kinematics, load_mechanism
+from domes.io.mechanisms import load_mechanism
+from domes.motion import Kinematics
 from domes.motion.planar.sweep import Continuation
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "mechanisms"

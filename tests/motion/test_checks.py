@@ -3,13 +3,20 @@
 import math
 
 import pytest
+from kinematics_cases import example
 
 from domes.errors import DomesError
 from domes.motion import Input, Joint, Mechanism
-from domes.motion.planar.checks import (grashof, interference, output_range, polygon_gap, rotatability,
-                                     toggle_near, transmission_angle)
+from domes.motion.planar.checks import (
+    grashof,
+    interference,
+    output_range,
+    polygon_gap,
+    rotatability,
+    toggle_near,
+    transmission_angle,
+)
 from domes.motion.planar.examples import four_bar, slider_crank, triple_rocker
-from kinematics_cases import example
 
 
 def _four_bar(ground, crank, coupler, rocker, deg=90.0):

@@ -7,10 +7,10 @@ d²A/dt² = Jφ̈ + J̇φ̇ + Bq̈ + Ḃq̇, which guards against the printed �
 import math
 
 import pytest
+from kinematics_cases import EXAMPLES, example
 
 from domes.motion import Kinematics
 from domes.motion.planar.sweep import Continuation
-from kinematics_cases import EXAMPLES, example
 
 FILES = sorted(p.name for p in EXAMPLES.glob("*.json"))
 

@@ -6,9 +6,9 @@ import json
 import math
 
 import pytest
+from kinematics_cases import EXAMPLES
 
 from domes.cli import main
-from kinematics_cases import EXAMPLES
 
 FOUR_BAR = str(EXAMPLES / "four-bar.json")
 
@@ -16,9 +16,9 @@ FOUR_BAR = str(EXAMPLES / "four-bar.json")
 def test_json_has_residual_condition_and_dead_points(capsys, tmp_path):
     # Seed 000 T9 through the CLI: the triple rocker stops at arccos(−29/48) = 127.168899656°.
     path = tmp_path / "triple-rocker.json"
-    from domes.motion import mechanism_to_dict
+
     from domes.motion.planar.examples import triple_rocker
-    path.write_text(json.dumps(mechanism_to_dict(triple_rocker())))
+    path.write_text(json.dumps(triple_rocker().to_dict()))
     assert main(["kinematics", str(path), "--sweep", "0:135:1", "--outputs", "angle:coupler", "--order", "1",
                  "--format", "json"]) == 0
     doc = json.loads(capsys.readouterr().out)

@@ -4,11 +4,12 @@ import json
 import math
 
 import pytest
+from kinematics_cases import EXAMPLES, example
 
 from domes.errors import DomesError
-from domes.motion import from_labelled, load_mechanism, mechanism_from_dict, mechanism_to_dict, solve
+from domes.io.mechanisms import load_mechanism
 from domes.model import LabelledChain
-from kinematics_cases import EXAMPLES, example
+from domes.motion import Mechanism, from_labelled, solve
 
 BASE = {"links": ["g", "a", "b", "c"], "ground": "g",
         "joints": [{"name": "A", "type": "R", "links": ["g", "a"], "at": [0, 0]},
@@ -41,7 +42,7 @@ def _with(**changes):
 ])
 def test_bad_input_names_the_field(data, message):
     with pytest.raises(DomesError, match=message):
-        mechanism_from_dict(data, "m.json")
+        Mechanism.from_dict(data, "m.json")
 
 
 def test_bad_json_names_the_line(tmp_path):
@@ -54,7 +55,7 @@ def test_bad_json_names_the_line(tmp_path):
 @pytest.mark.parametrize("name", sorted(p.name for p in EXAMPLES.glob("*.json")))
 def test_round_trip(name):
     m = example(name)
-    again = mechanism_from_dict(json.loads(json.dumps(mechanism_to_dict(m))), name)
+    again = Mechanism.from_dict(json.loads(json.dumps(m.to_dict())), name)
     assert [(j.name, j.kind, j.links, j.at, j.origin) for j in again.joints] == \
         [(j.name, j.kind, j.links, j.at, j.origin) for j in m.joints]
     assert [j.direction for j in again.joints] == pytest.approx([j.direction for j in m.joints], abs=1e-15)

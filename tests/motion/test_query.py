@@ -3,10 +3,10 @@
 import math
 
 import pytest
+from kinematics_cases import example
 
 from domes.motion import Kinematics, sweep
 from domes.motion.planar.sweep import Continuation
-from kinematics_cases import example
 
 
 def test_one_output_of_the_eight_bar_solves_fewer_groups():

@@ -4,12 +4,12 @@ import math
 import random
 
 import pytest
+from kinematics_cases import angle_diff, example, solve_at
 
 from domes.errors import DomesError
 from domes.motion import CouplerPoint, Input, Joint, Mechanism, Structure, sweep
 from domes.motion.planar.examples import triple_rocker
 from domes.motion.planar.units import reverse, rp1_unit, rp2_unit, rr_unit
-from kinematics_cases import angle_diff, example, solve_at
 
 # -- T1: link units are the derivatives of the vector unit; reversal negates -------------------------------
 

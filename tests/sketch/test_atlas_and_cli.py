@@ -8,10 +8,10 @@ import xml.etree.ElementTree as ET
 import pytest
 
 import domes.sketch.atlas as atlas
-from domes.typesynth import chains
 from domes.cli import main
 from domes.errors import DomesError
 from domes.sketch import Card, atlas_html, chain_atlas_html
+from domes.typesynth import chains
 
 XHTML = "{http://www.w3.org/1999/xhtml}"
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -9,10 +9,10 @@ import subprocess
 
 import pytest
 
-from domes.typesynth import chains
-from domes.typesynth import load_scene, regenerate
+from domes.io.scenes import load_scene
 from domes.sketch import chain_atlas_html
 from domes.sketch.atlas import regeneration_html
+from domes.typesynth import chains, regenerate
 
 CHROMIUM = "/usr/bin/chromium"
 pytestmark = pytest.mark.skipif(not os.path.exists(CHROMIUM), reason="needs the Debian package chromium (/usr/bin/chromium)")

@@ -13,8 +13,8 @@ import pytest
 from svgcheck import closest_joints, crossings, link_size, median_link_size, parse
 
 from domes.model import Chain
-from domes.typesynth import chains
 from domes.sketch import chain_svg, layout_from_positions, skeleton_layout
+from domes.typesynth import chains
 
 #: Closest two joints, as a fraction of the median link size (measured worst: 0.334 for the
 #: 8-bar, 0.247 for the 10-bar atlas; docs/sketch.md).

@@ -17,7 +17,8 @@ import numpy as np
 import pytest
 
 from domes.cli import main
-from domes.motion import load_mechanism, mechanism_to_dict, solve
+from domes.io.mechanisms import load_mechanism
+from domes.motion import solve
 from domes.motion.planar.examples import triple_rocker
 from domes.sketch.dimensioned import coupler_curves, dimensioned_svg
 
@@ -106,7 +107,7 @@ def test_curve_stops_at_the_located_limits(tmp_path):
     # crank pin B is an open arc from limit to limit, each end marked, never across the unreachable arc
     limit = math.acos(-29 / 48)
     path = tmp_path / "triple-rocker.json"
-    path.write_text(json.dumps(mechanism_to_dict(triple_rocker())), encoding="utf-8")
+    path.write_text(json.dumps(triple_rocker().to_dict()), encoding="utf-8")
     svg = dimensioned_svg(load_mechanism(str(path)), coupler=["B"])
     (curve,) = _elements(svg, "coupler-curve")
     assert "closed" not in curve.get("class").split()

@@ -7,10 +7,10 @@ import networkx as nx
 import pytest
 from svgcheck import SVG, parse
 
-from domes.typesynth import chains
 from domes.errors import DomesError
 from domes.model import JOINT_TYPES, LabelledChain
 from domes.sketch import mechanism_svg
+from domes.typesynth import chains
 
 # Suzuki RM-250X full floater, seed 002 §4-1 (digest 2.2, corrected MTM): links 1..6
 # as 0..5; pairs a..g; g (5-6) is the prismatic pair of the shock absorber.

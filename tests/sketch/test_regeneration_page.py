@@ -8,9 +8,9 @@ import xml.etree.ElementTree as ET
 import networkx as nx
 
 import domes.sketch.atlas as atlas
-from domes.typesynth import chains
 from domes.cli import main
 from domes.errors import DomesError
+from domes.typesynth import chains
 
 XHTML = "{http://www.w3.org/1999/xhtml}"
 SVG = "{http://www.w3.org/2000/svg}"

@@ -7,10 +7,10 @@ import networkx as nx
 import pytest
 from reference import brute_force_degenerate
 
-from domes.model import Chain, chain_properties
-from domes.typesynth import chains
-from domes.model.charpoly import characteristic_polynomial
 from domes.errors import DomesError
+from domes.model import Chain, chain_properties
+from domes.model.charpoly import characteristic_polynomial
+from domes.typesynth import chains
 
 
 def test_basic_chains_structural_number_table_3_4():
@@ -191,7 +191,7 @@ def test_bad_graph6_is_refused():
 
 
 def test_json_record_fields():
-    record = chains(links=6, dof=1)[0].as_dict()
+    record = chains(links=6, dof=1)[0].to_dict()
     assert {"links", "joints", "loops", "assortment", "contracted_graph", "dof_type",
             "automorphism_group_order", "link_orbits", "rigid_subchain", "graph6"} <= set(record)
 

@@ -7,7 +7,8 @@ import pytest
 from domes.cli import main
 from domes.errors import DomesError
 from domes.io.resources import knowledge_dir
-from domes.typesynth import load_scene, regenerate
+from domes.io.scenes import load_scene
+from domes.typesynth import regenerate
 
 BASE = (knowledge_dir() / "scenes" / "motorcycle.toml").read_text()
 

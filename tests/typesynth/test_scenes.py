@@ -5,9 +5,9 @@ import json
 import pytest
 from brute import members, run
 
-from domes.typesynth import chains
 from domes.cli import main
-from domes.typesynth import load_scene, regenerate
+from domes.io.scenes import load_scene
+from domes.typesynth import chains, regenerate
 
 
 def graphs(links):
@@ -57,7 +57,7 @@ def test_every_stage_matches_brute_force(scene, links, rules):
     result = regenerate(load_scene(scene))
     expected = run(graphs(links), rules)
     assert [(s.count, s.raw) for s in result.stages] == expected
-    certificates = [c.mechanism.certificate for c in result.candidates]
+    certificates = [c.labelled.certificate for c in result.candidates]
     assert len(set(certificates)) == len(certificates)
 
 
@@ -69,7 +69,7 @@ def test_motorcycle_reproduces_the_book():
     existing = [c for c in result.candidates if c.existing]
     assert len(existing) == 1
     # The Suzuki original: Stephenson chain, ground on the one-binary branch, ternary swing arm (digest A8).
-    m = existing[0].mechanism
+    m = existing[0].labelled
     (ground,), (swing,) = m.links_with_role("ground"), m.links_with_role("swing_arm")
     chain = chains(links=6, dof=1)[existing[0].chain_index - 1]
     assert chain.common_name == "Stephenson"
@@ -129,10 +129,10 @@ def test_distance_two_reading_of_the_radial_rule():
     rule = parse_criterion("the vertex representing “tile A” must be connected to the vertex representing “tile B” through an intermediate link")
     result = regenerate(load_scene("tyre-drum"))
     for c in result.candidates:
-        m = c.mechanism
+        m = c.labelled
         (a,), (b,) = m.links_with_role("tile_a"), m.links_with_role("tile_b")
         assert holds(rule, m) == (nx.shortest_path_length(m.to_networkx(), a, b) == 2)
-    assert any(holds(rule, c.mechanism) for c in result.candidates if c.existing)
+    assert any(holds(rule, c.labelled) for c in result.candidates if c.existing)
 
 
 def test_regenerate_output_feeds_the_screening_stage(tmp_path, capsys):

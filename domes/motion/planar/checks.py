@@ -19,8 +19,8 @@ import math
 from dataclasses import dataclass
 
 from domes.errors import InputError
-from domes.motion.planar.matrices import apply, displacement_matrix
 from domes.model.mechanism import Mechanism
+from domes.motion.planar.matrices import apply, displacement_matrix
 from domes.motion.planar.query import Kinematics, SolveFailure
 from domes.motion.planar.structure import Structure
 from domes.motion.planar.sweep import Continuation, DeadPoint, run_sweep

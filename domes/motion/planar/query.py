@@ -26,8 +26,8 @@ from enum import StrEnum
 import numpy as np
 
 from domes.errors import InputError, NumericalError
-from domes.motion.planar.dyads import DyadPlan, Undetermined, Unassembled
 from domes.model.mechanism import Mechanism
+from domes.motion.planar.dyads import DyadPlan, Unassembled, Undetermined
 from domes.motion.planar.structure import Structure, evaluate
 
 

@@ -25,7 +25,14 @@ import numpy as np
 
 from domes.errors import InputError, NumericalError
 from domes.model.mechanism import Mechanism
-from domes.motion.planar.query import PRESETS, SINGULAR_CONDITION, Accuracy, Kinematics, SolveFailure, Step
+from domes.motion.planar.query import (
+    PRESETS,
+    SINGULAR_CONDITION,
+    Accuracy,
+    Kinematics,
+    SolveFailure,
+    Step,
+)
 
 #: Condition numbers above this, at a local peak, are refined to look for a singular point.
 WATCH_CONDITION = 1e2
@@ -291,7 +298,7 @@ def _refine_peaks(kin, cont, steps, dead):
             # A singular point is located no better than √eps (the pose there is a double root).
             within = max(abs(b - a) / 2, fmin / slope, eps_q)
             report(q, within, group, f"{group.label}: Jacobian singular at input {cont.fmt(q)} (joints "
-                   f"{', '.join(group.joints)}, condition {1 / fmin:.3g}); a branch or change point: "
+                   f"{', '.join(group.joints)}, condition {1 / fmin if fmin else math.inf:.3g}); a branch or change point: "
                    "the sweep stays in the drawn assembly mode")
 
 

@@ -1,0 +1,41 @@
+"""What the subcommands share: progress on stderr, the case-base option, writing an output.
+
+>>> import argparse
+>>> p = argparse.ArgumentParser(parents=[db_option()])
+>>> p.parse_args(["--db", "x.db"]).db
+'x.db'
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from domes.io.files import write_atomic
+from domes.results import Progress
+from domes.store.casebase import DB_ENV
+
+
+def progress_printer(enabled: bool | None = None) -> Progress | None:
+    """A progress callback printing ``... message`` on stderr; by default only when stderr is a terminal."""
+    if enabled is None:
+        enabled = sys.stderr.isatty()
+    if not enabled:
+        return None
+    return lambda message: print(f"... {message}", file=sys.stderr, flush=True)
+
+
+def db_option() -> argparse.ArgumentParser:
+    """A parent parser with ``--db URL``: the case base of a subcommand."""
+    parent = argparse.ArgumentParser(add_help=False)
+    parent.add_argument("--db", metavar="URL",
+                        help=f"SQLAlchemy URL or SQLite file of the case base (default: ${DB_ENV}, else casebase.db)")
+    return parent
+
+
+def write_output(text: str, path: str | None) -> None:
+    """Write to standard output, or atomically to ``path``."""
+    if path is None:
+        sys.stdout.write(text)
+    else:
+        write_atomic(path, text)

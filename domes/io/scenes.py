@@ -1,0 +1,174 @@
+"""Scene files: a design scene's rules read from TOML, every error with the file and the line.
+
+The format is documented in ``docs/regeneration.md``; the shipped scenes are
+in the knowledge folder's ``scenes/``.
+
+>>> [s.name for s in load_scene("motorcycle").stages]
+['ground', 'shock absorber', 'swing arm', 'swing arm adjacent to ground']
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from domes.errors import DomesError, InputError
+from domes.io.resources import knowledge_dir
+from domes.io.tomlsource import TomlSource
+from domes.io.topology import read_topology
+from domes.language.evaluate import compile_criterion
+from domes.language.parse import normalise_name, parse_criterion
+from domes.language.tree import names_used
+from domes.model.labelled import JOINT_TYPES
+from domes.model.mobility import chain_joints
+from domes.typesynth.scene import (
+    SELECTIONS,
+    Particularization,
+    Scene,
+    Stage,
+    impossible_degree,
+)
+
+_STAGE_KEYS = {"name", "role", "select", "rules", "note"}
+_TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book"}
+
+
+def scene_names() -> list[str]:
+    """Names of the shipped scenes."""
+    return sorted(p.stem for p in (knowledge_dir() / "scenes").glob("*.toml"))
+
+
+def load_scene(name_or_path: str | Path) -> Scene:
+    """A scene by name (``knowledge/scenes/NAME.toml``) or by file path."""
+    path = Path(name_or_path)
+    if not path.is_file():
+        candidate = knowledge_dir() / "scenes" / f"{name_or_path}.toml"
+        if not candidate.is_file():
+            raise InputError(f"no scene {str(name_or_path)!r}: not a file, and not one of: {', '.join(scene_names())}")
+        path = candidate
+    return parse_scene(TomlSource.read(path))
+
+
+def parse_scene(src: TomlSource) -> Scene:
+    """Validate a scene; every error names the file and the line."""
+    data = src.data
+    for key in data:
+        if key not in _TOP_KEYS:
+            raise src.error(f"unknown key {key!r}; a scene has {', '.join(sorted(_TOP_KEYS))}", src.line_of(key))
+    chains = data.get("chains")
+    if not isinstance(chains, dict) or "links" not in chains or "dof" not in chains:
+        raise src.error("a scene needs a [chains] table with links and dof", src.line_of("chains"))
+    links, dof = chains["links"], chains["dof"]
+    if not isinstance(links, int) or not isinstance(dof, int):
+        raise src.error("[chains] links and dof must be integers", src.line_of("links"))
+    try:
+        chain_joints(links, dof)
+    except DomesError as exc:
+        raise src.error(str(exc), src.line_of("links")) from None
+
+    raw_stages = data.get("stages", [])
+    if not isinstance(raw_stages, list) or not raw_stages:
+        raise src.error("a scene needs at least one [[stages]] table")
+    given_at: dict[str, int] = {}
+    for i, raw in enumerate(raw_stages):
+        if isinstance(raw, dict) and isinstance(raw.get("role"), str):
+            given_at.setdefault(normalise_name(raw["role"]), i)
+    stages = tuple(_parse_stage(src, i, raw, given_at, links) for i, raw in enumerate(raw_stages))
+
+    roles = {s.role for s in stages if not s.is_screen}
+    particular = []
+    for i, raw in enumerate(data.get("particularize", [])):
+        line = src.table_line("particularize", i)
+        between, joint = raw.get("between"), raw.get("joint")
+        if not (isinstance(between, list) and len(between) == 2 and all(isinstance(r, str) for r in between)):
+            raise src.error("particularize: 'between' must name two roles", line)
+        for role in between:
+            if normalise_name(role) not in roles:
+                raise src.error(f"particularize: unknown role {role!r}; the stages give out {', '.join(sorted(roles))}", src.line_of(role, line) or line)
+        if joint not in JOINT_TYPES:
+            raise src.error(f"particularize: unknown joint type {joint!r}; known: {', '.join(JOINT_TYPES)}", src.line_of("joint", line) or line)
+        particular.append(Particularization((normalise_name(between[0]), normalise_name(between[1])), joint))
+
+    existing = []
+    for i, raw in enumerate(data.get("existing", [])):
+        line = src.table_line("existing", i)
+        ref = raw.get("mechanism") if isinstance(raw, dict) else None
+        if not isinstance(ref, str):
+            raise src.error("existing: 'mechanism' must be a file path", line)
+        try:
+            mechanism = read_topology((Path(src.path).parent / ref).resolve())
+        except DomesError as exc:
+            raise src.error(f"existing design {ref!r}: {exc}", line) from None
+        if mechanism.n != links:
+            raise src.error(f"existing design {ref!r} has {mechanism.n} links; the scene's chains have {links}", line)
+        existing.append(mechanism)
+
+    book = data.get("book", {})
+    counts = tuple(book.get("counts", ()))
+    if counts and len(counts) != len(stages):
+        raise src.error(f"[book] counts has {len(counts)} entries for {len(stages)} stages", src.line_of("counts"))
+    return Scene(
+        name=str(data.get("name", Path(src.path).stem)),
+        title=str(data.get("title", data.get("name", ""))),
+        source=str(data.get("source", "")),
+        path=src.path,
+        links=links,
+        dof=dof,
+        include_fractionated=bool(chains.get("include_fractionated", False)),
+        stages=stages,
+        particularize=tuple(particular),
+        existing=tuple(existing),
+        book_counts=counts,
+        book_note=str(book.get("note", "")),
+    )
+
+
+def _parse_stage(src: TomlSource, i: int, raw: object, given_at: dict[str, int], links: int) -> Stage:
+    line = src.table_line("stages", i)
+    if not isinstance(raw, dict):
+        raise src.error(f"stage {i + 1} must be a table", line)
+    for key in raw:
+        if key not in _STAGE_KEYS:
+            raise src.error(f"stage {i + 1}: unknown key {key!r}; a stage has {', '.join(sorted(_STAGE_KEYS))}", src.line_of(key, line) or line)
+    if "role" in raw:
+        if not isinstance(raw["role"], str) or not normalise_name(raw["role"]).isidentifier():
+            raise src.error(f"stage {i + 1}: 'role' must be a role name", src.line_of("role", line) or line)
+        role = normalise_name(raw["role"])
+        select = raw.get("select", "link")
+        if select not in SELECTIONS:
+            raise src.error(f"stage {i + 1}: select must be one of {', '.join(SELECTIONS)}, got {select!r}", src.line_of("select", line) or line)
+    else:
+        role, select = "", "screen"
+        if "select" in raw:
+            raise src.error(f"stage {i + 1}: a screen (a stage without a role) selects nothing", src.line_of("select", line) or line)
+    texts = raw.get("rules", [])
+    if isinstance(texts, str):
+        texts = [texts]
+    if select == "screen" and not texts:
+        raise src.error(f"stage {i + 1}: a stage needs a 'role' to give out, or 'rules' to screen by", line)
+    trees = []
+    for text in texts:
+        at = src.line_of(text, line) or line
+        if not isinstance(text, str):
+            raise src.error(f"stage {i + 1}: rules must be sentences (strings)", at)
+        try:
+            tree = parse_criterion(text)
+        except DomesError as exc:
+            raise src.error(f"stage {i + 1}: rule {text!r}: {exc}", at) from None
+        roles, _ = names_used(tree)
+        for used in roles:
+            if used not in given_at:
+                known = sorted(r for r, k in given_at.items() if k <= i)
+                raise src.error(f"stage {i + 1}: unknown role {used!r} in {text!r}; roles given out so far: {', '.join(known) or 'none'}", at)
+            if given_at[used] > i:
+                raise src.error(
+                    f"stage {i + 1}: rule {text!r} cannot hold yet: role {used!r} is given out only at stage {given_at[used] + 1}",
+                    at,
+                )
+        why = impossible_degree(tree, links)
+        if why:
+            raise src.error(f"stage {i + 1}: rule {text!r} cannot hold: {why}", at)
+        trees.append(tree)
+    name = str(raw.get("name", role or f"screen {i + 1}"))
+    return Stage(name, role, select, tuple(trees), tuple(texts), tuple(compile_criterion(t) for t in trees), line)
+
+
