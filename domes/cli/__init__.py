@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import logging
 import signal
 import sys
 
@@ -46,8 +47,20 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _notices() -> None:
+    """Notices of the package (e.g. "created your case base ...") go to stderr as ``domes: ...``."""
+    logger = logging.getLogger("domes")
+    if not logger.handlers:
+        handler = logging.StreamHandler()
+        handler.setFormatter(logging.Formatter("domes: %(message)s"))
+        logger.addHandler(handler)
+        logger.setLevel(logging.INFO)
+        logger.propagate = False
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
+    _notices()
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

@@ -143,7 +143,7 @@ def run_record(args: argparse.Namespace) -> int:
 
 
 def run_remove(args: argparse.Namespace) -> int:
-    with KnowledgeBase(args.db) as kb:
+    with KnowledgeBase(args.db, write=True) as kb:
         kb.remove_problem(args.id)
     print(f"removed {args.id}")
     return 0

@@ -165,7 +165,7 @@ def _changes(args: argparse.Namespace) -> dict:
 def run_add(args: argparse.Namespace) -> int:
     changes = _changes(args)
     frame = CriterionFrame.create(args.id, enabled=not args.disabled, **changes)
-    with KnowledgeBase(args.db) as kb:
+    with KnowledgeBase(args.db, write=True) as kb:
         kb.add(frame)
     print(f"added {frame.id}: category ({frame.category}), level {frame.level}: {render_criterion(frame.tree)}")
     return 0
@@ -175,7 +175,7 @@ def run_edit(args: argparse.Namespace) -> int:
     changes = _changes(args)
     if not changes:
         raise InputError("nothing to change: give --text, --explanation, --keywords, --relevance, --level, --source or --date")
-    with KnowledgeBase(args.db) as kb:
+    with KnowledgeBase(args.db, write=True) as kb:
         frame = kb.get(args.id).edited(**changes)
         kb.update(frame)
     print(f"edited {frame.id}: category ({frame.category}), level {frame.level}: {render_criterion(frame.tree)}")
@@ -183,14 +183,14 @@ def run_edit(args: argparse.Namespace) -> int:
 
 
 def run_enable(args: argparse.Namespace) -> int:
-    with KnowledgeBase(args.db) as kb:
+    with KnowledgeBase(args.db, write=True) as kb:
         kb.update(kb.get(args.id).with_enabled(args.enable))
     print(f"{'enabled' if args.enable else 'disabled'} {args.id}")
     return 0
 
 
 def run_remove(args: argparse.Namespace) -> int:
-    with KnowledgeBase(args.db) as kb:
+    with KnowledgeBase(args.db, write=True) as kb:
         kb.remove(args.id)
     print(f"removed {args.id}")
     return 0

@@ -40,8 +40,9 @@ class World:
 
     # -- the case base ---------------------------------------------------------------
 
-    def kb(self) -> KnowledgeBase:
-        return KnowledgeBase(self.url)
+    def kb(self, write: bool = False) -> KnowledgeBase:
+        """The case base, for one unit of work (``write``: it will be changed)."""
+        return KnowledgeBase(self.url, write=write)
 
     def solved(self) -> list[ProblemFrame]:
         with self.kb() as kb:
@@ -164,7 +165,7 @@ class World:
             self.criterion_id(text), text, explanation=f"added in a design session: {text}",
             source="design session", date=_dt.date.today().isoformat(),
         )
-        with self.kb() as kb:
+        with self.kb(write=True) as kb:
             known = {f.id: f for f in kb.frames()}
             if frame.id not in known:
                 kb.add(frame)
@@ -207,7 +208,7 @@ class World:
             old = self.case(case).relevance
             if old is not None:
                 vector = vector.merge(old.aligned(vector.ids))
-        with self.kb() as kb:
+        with self.kb(write=True) as kb:
             ids = {p.id for p in kb.problems()}
             base = run.problem.problem_class.replace("_", "-")
             number = 1

@@ -1,10 +1,11 @@
 """The case base: where it is, its schema check, and the knowledge base of criterion frames in it.
 
-``casebase.db`` (SQLite) at the top of the checkout is the default; the
-``--db`` option or the ``DOMES_DB`` environment variable selects any
-SQLAlchemy URL (or a path to an SQLite file) instead. The readable sources
-are ``knowledge/`` beside it, or ``DOMES_KNOWLEDGE``. Every edit is one
-transaction, in one session: an edit that is refused changes nothing.
+By default the user's case base, or the embedded ``casebase.db`` until the
+user first writes (:mod:`domes.io.resources`); the ``--db`` option or the
+``DOMES_DB`` environment variable selects any SQLAlchemy URL (or a path to
+an SQLite file) instead. The readable sources are the shipped knowledge, or
+``DOMES_KNOWLEDGE``. Every edit is one transaction, in one session: an edit
+that is refused changes nothing.
 
 >>> import tempfile, os
 >>> from domes.knowledge.frames import CriterionFrame
@@ -33,7 +34,12 @@ from sqlalchemy.orm import Session
 
 from domes.errors import DomesError, InputError
 from domes.io.criteria import check_unique, read_cases, read_knowledge
-from domes.io.resources import knowledge_dir, repo_root
+from domes.io.resources import (
+    default_casebase,
+    knowledge_dir,
+    shipped_casebase,
+    user_casebase,
+)
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
 from domes.store.models import (
@@ -45,18 +51,24 @@ from domes.store.models import (
 )
 
 DB_ENV = "DOMES_DB"
-DEFAULT_DB_NAME = "casebase.db"
 
 
-def database_url(db: str | None = None) -> str:
-    """The case base URL: ``db``, else ``$DOMES_DB``, else ``casebase.db`` of the checkout; a path means SQLite.
+def database_url(db: str | None = None, write: bool = False) -> str:
+    """The case base URL: ``db``, else ``$DOMES_DB``, else the default case base; a path means SQLite.
+
+    The default (:func:`~domes.io.resources.default_casebase`) is the user's
+    case base, or the embedded one opened read-only until something is
+    written (``write``), which makes the user's case base.
 
     >>> database_url("sqlite:///x.db")
     'sqlite:///x.db'
     """
     chosen = db or os.environ.get(DB_ENV)
     if not chosen:
-        return f"sqlite:///{repo_root() / DEFAULT_DB_NAME}"
+        path = default_casebase(write)
+        if path == shipped_casebase():
+            return f"sqlite:///file:{path}?mode=ro&uri=true"
+        return f"sqlite:///{path}"
     if "://" in chosen:
         return chosen
     return f"sqlite:///{Path(chosen).resolve()}"
@@ -70,6 +82,8 @@ def sqlite_path(url: str) -> Path | None:
         raise InputError(f"{url!r} is not a database URL (e.g. sqlite:///casebase.db) nor a file path") from None
     if parsed.get_backend_name() != "sqlite" or parsed.database in (None, "", ":memory:"):
         return None
+    if parsed.query.get("uri") == "true" and parsed.database.startswith("file:"):
+        return Path(parsed.database[len("file:"):])
     return Path(parsed.database)
 
 
@@ -124,11 +138,13 @@ def open_engine(url: str, create: bool = False) -> Engine:
 class KnowledgeBase:
     """The criterion frames of a case base; every method is one unit of work (one session, one transaction).
 
-    ``url`` is a SQLAlchemy URL or an SQLite path (None: :func:`database_url`).
+    ``url`` is a SQLAlchemy URL or an SQLite path (None: :func:`database_url`);
+    ``write`` says the caller will change it (without a ``url``, the user's case
+    base is then made if there is none).
     """
 
-    def __init__(self, url: str | None = None, create: bool = False):
-        self.url = database_url(url)
+    def __init__(self, url: str | None = None, create: bool = False, write: bool = False):
+        self.url = database_url(url, write=write or create)
         self.engine = open_engine(self.url, create=create)
 
     def close(self) -> None:
@@ -279,6 +295,13 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
     folder = knowledge_dir(source)
     frames = read_knowledge(folder)
     cases = read_cases(folder)
+    if url is None and not os.environ.get(DB_ENV):  # the user's case base, made anew
+        target = user_casebase()
+        try:
+            target.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"cannot build {target}: {exc.strerror}") from None
+        url = f"sqlite:///{target}"
     url = database_url(url)
     path = sqlite_path(url)
     if path is None:

@@ -1,13 +1,15 @@
 import shutil
+from pathlib import Path
 
 import pytest
 
-from domes.io.resources import repo_root
+ROOT = Path(__file__).resolve().parents[2]  # the checkout
+
 
 
 @pytest.fixture
 def casebase(tmp_path):
     """A scratch copy of the shipped case base (the six seed cases and the shipped criteria)."""
     target = tmp_path / "casebase.db"
-    shutil.copyfile(repo_root() / "casebase.db", target)
+    shutil.copyfile(ROOT / "casebase.db", target)
     return f"sqlite:///{target}"

@@ -4,6 +4,8 @@ Each test drives the dialogue with recorded answers against a scratch copy
 of the shipped case base, and checks the stored frames and relevance vectors.
 """
 
+from pathlib import Path
+
 import pytest
 
 from domes.errors import DomesError
@@ -13,7 +15,8 @@ from domes.io.resources import knowledge_dir
 from domes.io.transcripts import parse_answers
 from domes.store.casebase import KnowledgeBase
 
-MOTORCYCLE = (knowledge_dir().parent / "examples" / "design" / "motorcycle.answers").read_text()
+ROOT = Path(__file__).resolve().parents[2]  # the checkout
+MOTORCYCLE = (ROOT / "examples" / "design" / "motorcycle.answers").read_text()
 CASE = "motorcycle-rear-suspension-1"
 
 

@@ -2,10 +2,11 @@
 
 import shutil
 import sys
+from pathlib import Path
 
 import pytest
 
-from domes.io.resources import repo_root
+ROOT = Path(__file__).resolve().parents[2]  # the checkout
 
 pexpect = pytest.importorskip("pexpect")
 
@@ -35,7 +36,7 @@ def spawn(casebase, *extra, cwd):
 def empty_casebase(tmp_path):
     # the shipped criteria, no solved problems: the motorcycle problem is new
     target = tmp_path / "casebase.db"
-    shutil.copyfile(repo_root() / "casebase.db", target)
+    shutil.copyfile(ROOT / "casebase.db", target)
     from domes.store.casebase import KnowledgeBase
 
     with KnowledgeBase(str(target)) as kb:

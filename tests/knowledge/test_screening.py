@@ -2,6 +2,7 @@
 
 import itertools
 import json
+from pathlib import Path
 
 import pytest
 
@@ -12,8 +13,9 @@ from domes.knowledge.relevance import Problem, RelevanceVector, relevance_vector
 from domes.knowledge.screening import CostlyCriterion, screen
 from domes.language.evaluate import compile_criterion, graph_features
 from domes.model import LabelledChain
-from domes.store.casebase import repo_root
 from domes.typesynth import chains
+
+ROOT = Path(__file__).resolve().parents[2]  # the checkout
 
 
 def motorcycle_candidates():
@@ -72,7 +74,7 @@ def test_emptied_set_skips_the_remaining_criteria_and_names_the_culprit():
 
 
 def test_relevance_decides_which_criteria_apply():
-    shipped = read_knowledge(repo_root() / "knowledge")
+    shipped = read_knowledge(ROOT / "knowledge")
     motorcycle = Problem(dof=1, loops=2, links=6, joints=7, slider_pairs=0,
                          names=frozenset({"ground", "swing_arm", "shock_absorber"}))
     vector = relevance_vector(shipped, motorcycle)
@@ -134,7 +136,7 @@ def test_screen_command(tmp_path, capsys):
     from domes.store.casebase import build
 
     db = tmp_path / "kb.db"
-    build(repo_root() / "knowledge", str(db))
+    build(ROOT / "knowledge", str(db))
     # Seed 002 §4-1: the Suzuki original (swing arm on link 3, 0-based 2) and the same chain
     # with the swing arm on a link not jointed to the ground.
     suzuki = {"links": 6, "joints": [[0, 1], [0, 2], [1, 3], [2, 3], [1, 4], [2, 5], [4, 5, "P"]],

@@ -2,19 +2,21 @@
 
 import json
 import sqlite3
+from pathlib import Path
 
 import pytest
 
 from domes.cli import main
 from domes.errors import DomesError
 from domes.io.criteria import read_cases, read_file, read_knowledge
-from domes.io.resources import repo_root
 from domes.knowledge.frames import CriterionFrame
 from domes.language.tree import to_json
 from domes.store.casebase import KnowledgeBase, build
 from domes.store.models import SCHEMA_VERSIONS
 
-SHIPPED = repo_root() / "knowledge"
+ROOT = Path(__file__).resolve().parents[2]  # the checkout
+
+SHIPPED = ROOT / "knowledge"
 
 
 def run(capsys, *argv):
@@ -193,6 +195,6 @@ def test_missing_empty_and_foreign_databases_are_refused(tmp_path, capsys):
 
 def test_the_shipped_casebase_matches_the_sources():
     # casebase.db at the top of the checkout is built from knowledge/ by `domes kb build`.
-    with KnowledgeBase(str(repo_root() / "casebase.db")) as kb:
+    with KnowledgeBase(str(ROOT / "casebase.db")) as kb:
         assert kb.frames() == read_knowledge(SHIPPED)
         assert kb.problems() == read_cases(SHIPPED)
