@@ -16,6 +16,8 @@ now and then (at most about twice a second).
 
 from __future__ import annotations
 
+import time
+from collections.abc import Sequence
 from enum import StrEnum
 from typing import Callable
 
@@ -47,3 +49,42 @@ class Result:
     def success(self) -> bool:
         """True when the stage did all it was asked (``status`` is :attr:`Status.COMPLETE`)."""
         return self.status is Status.COMPLETE
+
+
+class Listing(Result, Sequence):
+    """A result that is also the sequence of what the stage found (chains, labelled chains, ...).
+
+    A subclass names the tuple of items in :attr:`items_field`; ``len``,
+    indexing, slicing and iteration go to it.
+    """
+
+    items_field = "items"
+
+    def __getitem__(self, index):
+        return getattr(self, self.items_field)[index]
+
+    def __len__(self) -> int:
+        return len(getattr(self, self.items_field))
+
+
+class Ticker:
+    """Calls a progress callback at most every ``every`` seconds; the message is made only when shown.
+
+    >>> shown = []
+    >>> clock = Ticker(shown.append, every=0.0)
+    >>> clock.tick(lambda: "half way"); shown
+    ['half way']
+    """
+
+    def __init__(self, progress: Progress | None, every: float = 0.5):
+        self.progress = progress
+        self.every = every
+        self.last = time.monotonic()
+
+    def tick(self, message: Callable[[], str], force: bool = False) -> None:
+        if self.progress is None:
+            return
+        now = time.monotonic()
+        if force or now - self.last >= self.every:
+            self.last = now
+            self.progress(message())

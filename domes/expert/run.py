@@ -39,6 +39,7 @@ from domes.knowledge.screening import screen
 from domes.language.explain import explain
 from domes.model.labelled import LabelledChain
 from domes.model.mobility import mobility
+from domes.results import Progress, Result, Status
 from domes.typesynth.atlas import ChainGenerator
 from domes.typesynth.labelling import label_joints
 from domes.typesynth.number import number_synthesis
@@ -51,8 +52,11 @@ MAX_VARIED_LINKS = 10
 
 
 @dataclass(frozen=True)
-class DesignRun:
-    """The outcome of one design: candidates kept, rejected (with criterion and reason), and what was tried."""
+class DesignRun(Result):
+    """The outcome of one design: candidates kept, rejected (with criterion and reason), and what was tried.
+
+    ``status`` is COMPLETE when some candidate is kept, EMPTY when none is.
+    """
 
     problem: ProblemFrame  # as run (links and joints filled in; loops and gear pairs as finally used)
     links: int
@@ -64,9 +68,18 @@ class DesignRun:
     emptied_by: str | None
     notes: tuple[str, ...]
 
+    @property
+    def status(self) -> Status:
+        return Status.COMPLETE if self.kept else Status.EMPTY
 
-def candidates_for(problem: ProblemFrame, links: int, joints: int,
-                   generator: ChainGenerator | None = None) -> list[tuple[LabelledChain, dict]]:
+    @property
+    def message(self) -> str:
+        text = f"{len(self.kept)} of {len(self.candidates)} candidates kept ({self.links} links, {self.joints} joints)"
+        return text + (f"; {self.emptied_by} removed the last ones" if self.emptied_by else "")
+
+
+def candidates_for(problem: ProblemFrame, links: int, joints: int, generator: ChainGenerator | None = None,
+                   progress: Progress | None = None) -> list[tuple[LabelledChain, dict]]:
     """The labelled candidates of a problem and, for each, plain data about its origin.
 
     ``generator`` keeps the chain atlases between the attempts of one design.
@@ -80,7 +93,7 @@ def candidates_for(problem: ProblemFrame, links: int, joints: int,
                 scene, links=links, dof=chain_dof, existing=tuple(m for m in scene.existing if m.n == links)
             )
         try:
-            result = regenerate(scene, generator=generator)
+            result = regenerate(scene, progress, generator)
         except EmptyStage:
             return []
         return [(c.labelled, {"chain": c.chain_index, "existing": list(c.existing)}) for c in result.candidates]
@@ -88,17 +101,17 @@ def candidates_for(problem: ProblemFrame, links: int, joints: int,
         return []
     chains = [LabelledChain.build(n, edges) for n, edges in generator.chains(links, chain_dof)]
     counts = {t: k for t, k in (("P", problem.slider_pairs or 0), ("G", problem.gear_pairs or 0)) if k}
-    return [(labelled, {}) for labelled in label_joints(chains, counts)]
+    return [(labelled, {}) for labelled in label_joints(chains, counts, progress=progress)]
 
 
 def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None,
-             generator: ChainGenerator) -> DesignRun:
+             generator: ChainGenerator, progress: Progress | None = None) -> DesignRun:
     numbers = number_synthesis(problem.dof, problem.loops, problem.space, problem.gear_pairs or 0)
     if problem.space != 3:
         raise InputError("the chain atlas is planar: spatial (λ = 6) problems get their numbers but no chains")
-    generated = candidates_for(problem, numbers.links, numbers.joints, generator)
+    generated = candidates_for(problem, numbers.links, numbers.joints, generator, progress)
     records = [{"id": i, **extra, **chain.to_dict()} for i, (chain, extra) in enumerate(generated, 1)]
-    result = screen([chain for chain, _ in generated], criteria, problem, relevance=relevance)
+    result = screen([chain for chain, _ in generated], criteria, problem, relevance=relevance, progress=progress)
     by_id = {c.id: c for c in criteria}
     rejected = tuple(
         {
@@ -122,19 +135,20 @@ def design(
     relevance: RelevanceVector | None = None,
     vary: bool = True,
     max_links: int = MAX_VARIED_LINKS,
+    progress: Progress | None = None,
 ) -> DesignRun:
     """Generate, label and screen the candidates of ``problem`` (see the module doc).
 
     ``criteria`` are the knowledge base's frames; ``relevance`` the problem's
     vector (None: each criterion's own relevance condition decides). When
     everything is eliminated and ``vary`` is set, the variations of
-    :data:`VARIATIONS` are tried, up to ``max_links`` links.
+    :data:`VARIATIONS` are tried, up to ``max_links`` links (the knob).
     """
     for key in ("dof", "loops"):
         if getattr(problem, key) is None:
             raise InputError(f"the problem does not state its {key}: a design needs DOF and independent loops")
-    generator = ChainGenerator()
-    first = run = _attempt(problem, criteria, relevance, generator)
+    generator = ChainGenerator(progress=progress)
+    first = run = _attempt(problem, criteria, relevance, generator, progress)
     notes = []
     if run.kept or not vary:
         return run
@@ -155,7 +169,7 @@ def design(
             f"{run.joints} joints) {why}; trying {varied.loops} loops and {varied.gear_pairs} gear pairs"
         )
         try:
-            run = _attempt(varied, criteria, relevance, generator)
+            run = _attempt(varied, criteria, relevance, generator, progress)
         except DomesError as exc:
             notes.append(f"{varied.loops} loops and {varied.gear_pairs} gear pairs: {exc}")
             continue

@@ -29,6 +29,7 @@ from domes.knowledge.relevance import RelevanceVector, is_relevant
 from domes.language.evaluate import compile_criterion, graph_features
 from domes.language.tree import Always, Relevance
 from domes.model.labelled import LabelledChain, share_topologies
+from domes.results import Progress, Result, Status, Ticker
 
 
 @dataclass(frozen=True)
@@ -57,7 +58,7 @@ class Rejection:
 
 
 @dataclass(frozen=True)
-class ScreeningResult:
+class ScreeningResult(Result):
     """The outcome of :func:`screen`.
 
     ``kept`` are the surviving candidates (input order) and ``kept_indices``
@@ -83,6 +84,11 @@ class ScreeningResult:
         return {r.index: r.criterion for r in self.rejections}
 
     @property
+    def status(self) -> Status:
+        """COMPLETE when some candidate is kept, EMPTY when none is (``emptied_by`` says which criterion)."""
+        return Status.COMPLETE if self.kept else Status.EMPTY
+
+    @property
     def message(self) -> str:
         """One line for the designer (DOMES prints a message when every graph is eliminated)."""
         total = len(self.kept) + len(self.rejections)
@@ -100,6 +106,7 @@ def screen(
     problem: Any = None,
     relevance: RelevanceVector | None = None,
     max_level: int | None = None,
+    progress: Progress | None = None,
 ) -> ScreeningResult:
     """Screen candidates (labelled graphs) by criteria, level by level; see the module docstring.
 
@@ -128,6 +135,7 @@ def screen(
     chosen.sort(key=lambda t: (t[0], t[1]))
 
     share_topologies(c for c in candidates if isinstance(c, LabelledChain))
+    clock = Ticker(progress)
     alive = list(range(len(candidates)))
     features: dict[int, Any] = {}
     rejections: list[Rejection] = []
@@ -138,6 +146,7 @@ def screen(
         if not alive:
             break
         applied.append(criterion.id)
+        clock.tick(lambda: f"level {lvl}, criterion {criterion.id}: {len(alive)} candidates left")
         if isinstance(criterion, CostlyCriterion):
             keep = lambda i: bool(criterion.check(candidates[i]))  # noqa: E731
         else:

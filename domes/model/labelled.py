@@ -219,6 +219,13 @@ class LabelledChain:
         return child
 
     @classmethod
+    def from_chain(cls, chain) -> "LabelledChain":
+        """The chain (a :class:`~domes.model.Chain`) with every joint revolute and no roles, sharing its topology."""
+        labelled = cls.build(chain.n, chain.edges)
+        labelled.__dict__["topology"] = chain.topology
+        return labelled
+
+    @classmethod
     def from_named(
         cls,
         name: str,

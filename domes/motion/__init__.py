@@ -24,11 +24,19 @@ from domes.model.mechanism import (
     Polygon,
     from_labelled,
 )
-from domes.motion.planar.query import PRESETS, Accuracy, Kinematics, Step, accuracy
+from domes.motion.planar.query import (
+    PRESETS,
+    Accuracy,
+    FailureKind,
+    Kinematics,
+    SolveFailure,
+    Step,
+    accuracy,
+)
 from domes.motion.planar.structure import Structure
-from domes.motion.planar.sweep import DeadPoint, Sweep, solve, sweep
+from domes.motion.planar.sweep import DeadPoint, DeadPointKind, Sweep, solve, sweep
 
 __all__ = [
-    "Accuracy", "CouplerPoint", "DeadPoint", "Input", "Joint", "Kinematics", "Mechanism", "PRESETS", "Polygon",
+    "Accuracy", "CouplerPoint", "DeadPoint", "DeadPointKind", "FailureKind", "SolveFailure", "Input", "Joint", "Kinematics", "Mechanism", "PRESETS", "Polygon",
     "Step", "Structure", "Sweep", "accuracy", "from_labelled", "solve", "sweep",
 ]

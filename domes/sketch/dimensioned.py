@@ -29,7 +29,16 @@ from dataclasses import dataclass
 from typing import Mapping, Sequence
 
 from domes.errors import DomesError, InputError
-from domes.motion import CouplerPoint, DeadPoint, Kinematics, Mechanism, solve, sweep
+from domes.motion import (
+    CouplerPoint,
+    DeadPoint,
+    DeadPointKind,
+    Kinematics,
+    Mechanism,
+    solve,
+    sweep,
+)
+from domes.results import Status
 from domes.sketch import symbols
 from domes.sketch.draw import INK, PLATE_FILL, Frame
 from domes.sketch.mechanism import HATCH
@@ -147,7 +156,7 @@ def coupler_curves(mech: Mechanism, names: Sequence[str], span: tuple[float, flo
 
     >>> from domes.motion.planar.examples import triple_rocker
     >>> (curve,) = coupler_curves(triple_rocker(), ["B"])
-    >>> curve.closed, [d.kind for d in curve.stops]
+    >>> curve.closed, [str(d.kind) for d in curve.stops]
     (False, ['limit', 'limit'])
     """
     if not names:
@@ -165,12 +174,12 @@ def coupler_curves(mech: Mechanism, names: Sequence[str], span: tuple[float, flo
         runs = [sweep(mech, span[0], span[1], span[2], outputs=outputs, accuracy=accuracy)]
     else:
         runs = [sweep(mech, q0, q0 + reach, outputs=outputs, accuracy=accuracy)]
-        if runs[0].status != "complete" or not angular:
+        if runs[0].status is not Status.COMPLETE or not angular:
             runs.insert(0, sweep(mech, q0, q0 - reach, outputs=outputs, accuracy=accuracy))
     steps, first, last = [], None, None
     for k, run in enumerate(runs):
         start = run.steps[0].inputs[run.joint] if run.steps else q0
-        stop = next((d for d in run.dead_points if d.kind != "singular"), None) if run.status == "stopped" else None
+        stop = next((d for d in run.dead_points if d.kind is not DeadPointKind.SINGULAR), None) if run.status is Status.STOPPED else None
         found = list(run.steps)
         end = _end_point(mech, outputs, stop, start, accuracy) if stop else None
         if end is not None:

@@ -33,9 +33,7 @@ group of ``H`` is tried, so little work is repeated.
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
@@ -45,13 +43,14 @@ from domes.model.chain import Chain
 from domes.model.charpoly import characteristic_polynomial
 from domes.model.mobility import chain_joints
 from domes.model.rigidity import pair_slack
+from domes.results import Listing, Progress, Status, Ticker
 
 Edge = tuple[int, int]
 Graph = tuple[int, tuple[Edge, ...]]  # (links, joints) with links 0..n-1
 
 ISOMORPHISM_METHODS = ("nauty", "charpoly")
 
-ProgressFn = Callable[[str], None]
+
 
 
 def _cycle(n: int) -> Graph:
@@ -98,12 +97,13 @@ class ChainGenerator:
     """
 
     isomorphism: str = "nauty"
-    progress: ProgressFn | None = None
+    progress: Progress | None = None
     _blocks: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
     _all: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
-    _last_report: float = field(default=0.0, repr=False)
+    _clock: Ticker = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
+        self._clock = Ticker(self.progress)
         if self.isomorphism not in ISOMORPHISM_METHODS:
             raise InputError(
                 f"unknown isomorphism method {self.isomorphism!r}; choose one of {', '.join(ISOMORPHISM_METHODS)}"
@@ -122,14 +122,6 @@ class ChainGenerator:
         return self._two_connected(loops, dof)
 
     # -- internals ----------------------------------------------------------
-
-    def _report(self, message: str, force: bool = False) -> None:
-        if self.progress is None:
-            return
-        now = time.monotonic()
-        if force or now - self._last_report >= 0.5:
-            self._last_report = now
-            self.progress(message)
 
     def _key(self, graph: Graph) -> object:
         n, edges = graph
@@ -160,11 +152,11 @@ class ChainGenerator:
             for k in range(dof + 2):
                 parents = self._two_connected(loops - 1, dof + 2 - k)
                 for index, parent in enumerate(parents):
-                    self._report(f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on parent {index + 1}/{len(parents)}, {len(found)} chains so far")
+                    self._clock.tick(lambda: f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on parent {index + 1}/{len(parents)}, {len(found)} chains so far")
                     self._add_ears(parent, k, found)
             result = self._finish(found)
         self._blocks[key] = result
-        self._report(f"{2 * loops + dof + 1} links, DOF {dof}, {loops} loops: {len(result)} chains without a cut link", force=True)
+        self._clock.tick(lambda: f"{2 * loops + dof + 1} links, DOF {dof}, {loops} loops: {len(result)} chains without a cut link", force=True)
         return result
 
     def _add_ears(self, parent: Graph, k: int, found: dict[object, Graph]) -> None:
@@ -198,7 +190,7 @@ class ChainGenerator:
                         continue
                     block_sites = [(b, automorphisms(*b).orbits) for b in blocks]
                     for index, base in enumerate(bases):
-                        self._report(f"{links} links, DOF {dof}: cut-link chains from base {index + 1}/{len(bases)}")
+                        self._clock.tick(lambda: f"{links} links, DOF {dof}: cut-link chains from base {index + 1}/{len(bases)}")
                         for u, *_ in automorphisms(*base).orbits:
                             for block, orbits in block_sites:
                                 for c, *_ in orbits:
@@ -206,19 +198,60 @@ class ChainGenerator:
                                     found.setdefault(self._key(child), child)
         result = self._finish(found)
         self._all[key] = result
-        self._report(f"{links} links, DOF {dof}: {len(result)} chains in all", force=True)
+        self._clock.tick(lambda: f"{links} links, DOF {dof}: {len(result)} chains in all", force=True)
         return result
 
 
+@dataclass(frozen=True, repr=False)
+class Atlas(Listing):
+    """Every chain of one size: a sequence of :class:`~domes.model.Chain` and how it was made.
+
+    ``isomorphism`` is the method that removed duplicates (the speed/accuracy
+    knob); ``status`` is EMPTY when no chain has this size and DOF.
+
+    >>> atlas = chains(links=6, dof=1)
+    >>> len(atlas), atlas.success, atlas.message
+    (2, True, '2 chains of 6 links, 7 joints, DOF 1 (without a cut link; duplicates removed by nauty, exact)')
+    """
+
+    chains: tuple[Chain, ...]
+    links: int
+    dof: int
+    include_fractionated: bool = False
+    isomorphism: str = "nauty"
+
+    items_field = "chains"
+
+    @property
+    def joints(self) -> int:
+        return chain_joints(self.links, self.dof)
+
+    @property
+    def status(self) -> Status:
+        return Status.COMPLETE if self.chains else Status.EMPTY
+
+    @property
+    def message(self) -> str:
+        kind = "with or without a cut link" if self.include_fractionated else "without a cut link"
+        method = "nauty, exact" if self.isomorphism == "nauty" else "the characteristic polynomial, not exact"
+        return (f"{len(self.chains)} chains of {self.links} links, {self.joints} joints, DOF {self.dof} "
+                f"({kind}; duplicates removed by {method})")
+
+    def __repr__(self) -> str:
+        return f"<Atlas: {self.message}>"
+
+
 def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism: str = "nauty",
-           progress: ProgressFn | None = None, generator: ChainGenerator | None = None) -> list[Chain]:
+           progress: Progress | None = None, generator: ChainGenerator | None = None) -> Atlas:
     """Every non-isomorphic, non-degenerate planar chain of revolute joints.
 
     Chains with a cut link (fractionated) are left out unless
-    ``include_fractionated``. Returns :class:`~domes.model.Chain` objects,
-    canonically labelled, sorted by link assortment. ``generator`` (a
-    :class:`ChainGenerator`) keeps the atlases built, for callers that ask
-    again; by default each call builds its own.
+    ``include_fractionated``. Returns an :class:`Atlas`: the
+    :class:`~domes.model.Chain` objects, canonically labelled, sorted by link
+    assortment. ``isomorphism`` is the knob (``nauty`` exact, ``charpoly``
+    the book's inexact test); ``progress`` receives a line now and then;
+    ``generator`` (a :class:`ChainGenerator`) keeps the atlases built, for
+    callers that ask again; by default each call builds its own.
 
     >>> len(chains(links=10, dof=1))
     230
@@ -229,7 +262,8 @@ def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism
         generator = ChainGenerator(isomorphism=isomorphism, progress=progress)
     elif generator.isomorphism != isomorphism:
         raise InputError(f"the generator removes duplicates by {generator.isomorphism!r}, not {isomorphism!r}")
-    return [Chain(n, edges) for n, edges in generator.chains(links, dof, include_fractionated)]
+    found = tuple(Chain(n, edges) for n, edges in generator.chains(links, dof, include_fractionated))
+    return Atlas(found, links, dof, include_fractionated, isomorphism)
 
 
 def atlas_position(chain: Chain, generator: ChainGenerator | None = None) -> int | None:

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 
 from domes.model.chain import Chain
 from domes.model.labelled import LabelledChain
+from domes.results import Result, Status
 from domes.typesynth.atlas import ChainGenerator, atlas_position
 
 #: Joint types replaced by a binary ``HS`` link (higher pairs).
@@ -42,11 +43,19 @@ MARKED_REVOLUTES = {"P"}
 
 
 @dataclass(frozen=True)
-class Generalization:
-    """A mechanism (``original``) and its generalized chain (``chain``, whose links are named)."""
+class Generalization(Result):
+    """A mechanism (``original``) and its generalized chain (``chain``, whose links are named); always COMPLETE."""
 
     original: LabelledChain
     chain: LabelledChain
+
+    status = Status.COMPLETE
+
+    @property
+    def message(self) -> str:
+        c = self.unlabelled
+        name = f": the {c.common_name} chain" if c.common_name else (": degenerate" if c.is_degenerate else "")
+        return f"{self.original.name or 'mechanism'}: {c.n} links, {c.joints} joints, DOF {c.dof}, {c.loops} loops{name}"
 
     @property
     def link_names(self) -> tuple[str, ...]:

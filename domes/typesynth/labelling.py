@@ -25,48 +25,55 @@ strict, since in a chain without cut links any two joints share a cycle.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Iterable, Mapping
-
-import networkx as nx
 
 from domes.errors import InputError
 from domes.model.chain import Chain
 from domes.model.labelled import JOINT_TYPES, LabelledChain
+from domes.model.topology import gf2_rank
+from domes.results import Listing, Progress, Status, Ticker
 
 
-def _cycles(chain: LabelledChain) -> list[tuple[int, frozenset[int]]]:
-    """Every simple cycle, as a bit mask and as the set of its joint indices."""
-    index = {e: i for i, e in enumerate(chain.edges)}
-    graph = nx.Graph(chain.edges)
-    out = []
-    for cycle in nx.simple_cycles(graph):
-        ring = zip(cycle, cycle[1:] + cycle[:1])
-        joints = frozenset(index[(min(u, v), max(u, v))] for u, v in ring)
-        out.append((sum(1 << j for j in joints), joints))
-    return out
+def _within_limits(chain: LabelledChain, types: tuple[str, ...], limits: Mapping[str, int]) -> bool:
+    """Whether the loops within the limits span the cycle space (some cycle basis keeps the limits)."""
+    topo = chain.topology
+    typed = {t: sum(1 << i for i, x in enumerate(types) if x == t) for t in limits}
+    ok = [mask for mask in topo.cycle_edges if all((mask & typed[t]).bit_count() <= m for t, m in limits.items())]
+    return gf2_rank(ok) == topo.loops
 
 
-def _rank(masks: Iterable[int]) -> int:
-    """Rank over GF(2) of joint-set bit masks."""
-    basis: list[int] = []
-    for m in masks:
-        for b in basis:
-            m = min(m, m ^ b)
-        if m:
-            basis.append(m)
-    return len(basis)
+@dataclass(frozen=True, repr=False)
+class Labelling(Listing):
+    """The labelled chains of :func:`label_joints`: a sequence of :class:`~domes.model.LabelledChain`."""
 
+    labelled: tuple[LabelledChain, ...]
+    counts: tuple[tuple[str, int], ...]
+    per_loop_max: tuple[tuple[str, int], ...] = ()
+    chains: int = 0
 
-def _within_limits(cycles: list[tuple[int, frozenset[int]]], types: tuple[str, ...], limits: Mapping[str, int], loops: int) -> bool:
-    ok = (mask for mask, joints in cycles if all(sum(types[j] == t for j in joints) <= m for t, m in limits.items()))
-    return _rank(ok) == loops
+    items_field = "labelled"
+
+    @property
+    def status(self) -> Status:
+        return Status.COMPLETE if self.labelled else Status.EMPTY
+
+    @property
+    def message(self) -> str:
+        counts = ", ".join(f"{k} {t}" for t, k in self.counts) or "no special"
+        limits = f", at most {', '.join(f'{m} {t}' for t, m in self.per_loop_max)} per loop" if self.per_loop_max else ""
+        return f"{len(self.labelled)} labelled chains of {self.chains} chains with {counts} joints{limits}"
+
+    def __repr__(self) -> str:
+        return f"<Labelling: {self.message}>"
 
 
 def label_joints(
     chains: Iterable[Chain | LabelledChain],
     counts: Mapping[str, int],
     per_loop_max: Mapping[str, int] | None = None,
-) -> list[LabelledChain]:
+    progress: Progress | None = None,
+) -> Labelling:
     """Every non-isomorphic assignment of ``counts[t]`` joints of type ``t`` (the rest ``R``).
 
     ``per_loop_max[t]`` bounds the joints of type ``t`` on any loop.
@@ -75,19 +82,22 @@ def label_joints(
     for t, k in counts.items():
         if t not in JOINT_TYPES or t == "R":
             raise InputError(f"cannot count joint type {t!r}; choose among {', '.join(x for x in JOINT_TYPES if x != 'R')}")
-        if not isinstance(k, int) or k < 0:
+        if not isinstance(k, int) or isinstance(k, bool) or k < 0:
             raise InputError(f"the number of {t} joints must be a whole number >= 0, got {k!r}")
     limits = dict(per_loop_max or {})
-    for t in limits:
+    for t, m in limits.items():
         if t not in JOINT_TYPES:
             raise InputError(f"unknown joint type {t!r} in the loop limits")
+        if not isinstance(m, int) or isinstance(m, bool) or m < 0:
+            raise InputError(f"the loop limit of {t} joints must be a whole number >= 0, got {m!r}")
+    chains = list(chains)
     result: list[LabelledChain] = []
-    for chain in chains:
-        start = chain if isinstance(chain, LabelledChain) else LabelledChain.build(chain.n, chain.edges)
+    clock = Ticker(progress)
+    for number, chain in enumerate(chains, 1):
+        clock.tick(lambda: f"chain {number}/{len(chains)}: {len(result)} labelled chains so far")
+        start = chain if isinstance(chain, LabelledChain) else LabelledChain.from_chain(chain)
         if sum(counts.values()) > len(start.edges):
             continue
-        cycles = _cycles(start) if limits else []
-        loops = len(start.edges) - start.n + 1
         layer = [start]
         for t, k in sorted(counts.items()):
             for _ in range(k):
@@ -98,10 +108,10 @@ def label_joints(
                         if types[i] != "R":
                             continue
                         new_types = types[:i] + (t,) + types[i + 1 :]
-                        if limits and not _within_limits(cycles, new_types, limits, loops):
+                        if limits and not _within_limits(labelled, new_types, limits):
                             continue
-                        child = LabelledChain.build(labelled.n, labelled.edges, new_types, dict(enumerate(labelled.roles)))
+                        child = labelled.with_joint_types(new_types)
                         seen.setdefault(child.certificate, child)
                 layer = list(seen.values())
         result.extend(sorted(layer, key=lambda c: c.certificate))
-    return result
+    return Labelling(tuple(result), tuple(sorted(counts.items())), tuple(sorted(limits.items())), len(chains))

@@ -25,16 +25,20 @@ from domes.model.mobility import (
     check_count,
     mobility,
 )
+from domes.results import Result, Status
 
 __all__ = ["LinkAssortment", "NumberSynthesis", "chain_joints", "chain_loops", "link_assortments", "number_synthesis"]
 
 
 @dataclass(frozen=True)
-class NumberSynthesis:
-    """The link and joint numbers of a problem (DOMES §7-2).
+class NumberSynthesis(Result):
+    """The link and joint numbers of a problem (DOMES §7-2); exact, so always COMPLETE.
 
-    >>> number_synthesis(dof=1, loops=2)
+    >>> result = number_synthesis(dof=1, loops=2)
+    >>> result
     NumberSynthesis(dof=1, loops=2, space=3, gear_pairs=0, links=6, joints=7)
+    >>> result.success, result.message
+    (True, 'W=1, L=2, λ=3, j_G=0: 6 links, 7 joints')
     """
 
     dof: int
@@ -43,6 +47,12 @@ class NumberSynthesis:
     gear_pairs: int
     links: int
     joints: int
+
+    status = Status.COMPLETE
+
+    @property
+    def message(self) -> str:
+        return f"W={self.dof}, L={self.loops}, λ={self.space}, j_G={self.gear_pairs}: {self.links} links, {self.joints} joints"
 
 
 def number_synthesis(dof: int, loops: int, space: int = PLANAR, gear_pairs: int = 0) -> NumberSynthesis:

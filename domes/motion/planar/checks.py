@@ -23,7 +23,8 @@ from domes.model.mechanism import Mechanism
 from domes.motion.planar.matrices import apply, displacement_matrix
 from domes.motion.planar.query import Kinematics, SolveFailure
 from domes.motion.planar.structure import Structure
-from domes.motion.planar.sweep import Continuation, DeadPoint, run_sweep
+from domes.motion.planar.sweep import Continuation, DeadPoint, DeadPointKind, run_sweep
+from domes.results import Status
 
 #: Relative tolerance of the Grashof equality s + l = p + q (the change-point boundary).
 GRASHOF_TOL = 1e-12
@@ -99,17 +100,17 @@ def rotatability(mech: Mechanism, accuracy=None) -> Rotatability:
     up = run_sweep(kin, q0, q0 + 2 * math.pi)
     dead = list(up.dead_points)
     lo, hi = up.reachable
-    if up.status != "complete":
+    if up.status is not Status.COMPLETE:
         down = run_sweep(kin, q0, q0 - 2 * math.pi)
         dead += down.dead_points
         lo = down.reachable[0]
     for d in dead:  # the reachable range ends at the located limits, not at the last grid step
-        if d.kind == "limit":
+        if d.kind is DeadPointKind.LIMIT:
             lo, hi = (min(lo, d.input), hi) if d.input < q0 else (lo, max(hi, d.input))
     g = None
     if len(mech.links) == 4 and all(j.kind == "R" for j in mech.joints):
         g = grashof(mech)
-    full = up.status == "complete" and not any(d.kind != "singular" for d in dead)
+    full = up.status is Status.COMPLETE and not any(d.kind is not DeadPointKind.SINGULAR for d in dead)
     return Rotatability(full, (lo, hi), tuple(dead), g)
 
 
@@ -254,7 +255,7 @@ def output_range(mech: Mechanism, output: str, start: float, stop: float, step=N
                 cands.append((v, q))
     lo = min(cands)
     hi = max(cands)
-    stopped = next((d for d in sw.dead_points if d.kind != "singular"), None)
+    stopped = next((d for d in sw.dead_points if d.kind is not DeadPointKind.SINGULAR), None)
     return OutputRange(col, lo[0], hi[0], lo[1], hi[1], stopped)
 
 

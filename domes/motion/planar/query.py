@@ -29,6 +29,7 @@ from domes.errors import InputError, NumericalError
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.dyads import DyadPlan, Unassembled, Undetermined
 from domes.motion.planar.structure import Structure, evaluate
+from domes.results import Result, Status
 
 
 @dataclass(frozen=True)
@@ -116,13 +117,15 @@ class SolveFailure(NumericalError):
 
 
 @dataclass(frozen=True)
-class Step:
+class Step(Result):
     """One solved configuration: output values by column name, loop closure and conditioning.
 
     ``residual`` is the largest loop-closure error relative to the
     mechanism's size, ``condition`` the largest condition number of a
     solved group's scaled Jacobian (1 when no group has unknowns).
     Derivative columns end in ``'`` (velocity) and ``''`` (acceleration).
+    A configuration that cannot be solved raises a
+    :class:`~domes.errors.NumericalError` instead, so a step is always COMPLETE.
     """
 
     inputs: dict
@@ -130,6 +133,12 @@ class Step:
     residual: float
     condition: float
     state: dict = field(repr=False, compare=False, default_factory=dict)
+
+    status = Status.COMPLETE
+
+    @property
+    def message(self) -> str:
+        return f"solved: residual {self.residual:.2g}, condition {self.condition:.3g}"
 
 
 @dataclass(frozen=True)
@@ -261,9 +270,9 @@ class Kinematics:
                 else:
                     self._newton(g, values)
             except Unassembled as exc:
-                raise SolveFailure(str(exc), "limit", g) from None
+                raise SolveFailure(str(exc), FailureKind.LIMIT, g) from None
             except Undetermined as exc:
-                raise SolveFailure(str(exc), "undetermined", g) from None
+                raise SolveFailure(str(exc), FailureKind.UNDETERMINED, g) from None
             if guess is not None:
                 self._check_jump(g, before, values)
         self.groups_solved += sum(1 for g in self.groups if g.unknowns)
@@ -277,7 +286,7 @@ class Kinematics:
             if change > JUMP:
                 what = f"{math.degrees(change):.1f}°" if v.startswith("rot:") else f"{change:.3g} of the size"
                 raise SolveFailure(f"{g.label}: {v} jumped by {what} in one step at joints {', '.join(g.joints)} "
-                                   "(a discontinuity or change of assembly mode)", "jump", g)
+                                   "(a discontinuity or change of assembly mode)", FailureKind.JUMP, g)
 
     def _dyad(self, g, values):
         plan = self.plans[g.index]
@@ -314,7 +323,7 @@ class Kinematics:
             try:
                 dx = np.linalg.solve(J, -A)
             except np.linalg.LinAlgError:
-                raise SolveFailure(f"{g.label}: Jacobian singular during Newton iteration", "newton", g) from None
+                raise SolveFailure(f"{g.label}: Jacobian singular during Newton iteration", FailureKind.NEWTON, g) from None
             rot = [i for i, v in enumerate(g.unknowns) if v.startswith("rot:")]
             cap = max((abs(dx[i]) for i in rot), default=0.0)
             if cap > 0.5:
@@ -326,7 +335,7 @@ class Kinematics:
             if size <= tol or (size <= 1e-9 and size >= 0.9 * last):  # converged, or stalled at rounding
                 return
             last = size
-        raise SolveFailure(f"{g.label}: Newton's method did not converge (last correction {size:.3g})", "newton", g)
+        raise SolveFailure(f"{g.label}: Newton's method did not converge (last correction {size:.3g})", FailureKind.NEWTON, g)
 
     def _assemble(self, g, values, rates=None):
         """``A`` (2L), ``J`` (2L×U) and, with ``rates``, the right-hand sides' parts."""
@@ -371,7 +380,7 @@ class Kinematics:
                 continue
             if not math.isfinite(cond) or cond > SINGULAR_CONDITION:
                 raise SolveFailure(f"{g.label}: Jacobian singular (condition {cond:.3g}); velocities are undetermined "
-                                   f"at joints {', '.join(g.joints)}", "singular", g, cond)
+                                   f"at joints {', '.join(g.joints)}", FailureKind.SINGULAR, g, cond)
             rhs = np.zeros(n)
             for i, cols in enumerate(loops):
                 for v, c in cols.items():

@@ -12,14 +12,15 @@ a singular (branch) point when the Jacobian is singular there.
 
 >>> from domes.motion.planar.examples import triple_rocker
 >>> sw = sweep(triple_rocker(), 0.0, math.radians(130), math.radians(1), outputs=["angle:rocker"])
->>> sw.status, round(math.degrees(sw.dead_points[0].input), 6)
-('stopped', 127.1689)
+>>> str(sw.status), sw.success, round(math.degrees(sw.dead_points[0].input), 6)
+('stopped', False, 127.1689)
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from enum import StrEnum
 
 import numpy as np
 
@@ -33,9 +34,23 @@ from domes.motion.planar.query import (
     SolveFailure,
     Step,
 )
+from domes.results import Progress, Result, Status, Ticker
 
 #: Condition numbers above this, at a local peak, are refined to look for a singular point.
 WATCH_CONDITION = 1e2
+
+
+class DeadPointKind(StrEnum):
+    """What happens to the mechanism at a dead point."""
+
+    #: It cannot be assembled beyond this input.
+    LIMIT = "limit"
+    #: Its Jacobian is singular here; the sweep went on in the same assembly mode.
+    SINGULAR = "singular"
+    #: Its pose is not determined here (coincident joints, parallel slides).
+    UNDETERMINED = "undetermined"
+    #: Its pose would jump here (a bifurcation).
+    DISCONTINUITY = "discontinuity"
 
 
 @dataclass(frozen=True)
@@ -51,20 +66,25 @@ class DeadPoint:
 
     input: float
     within: float
-    kind: str
+    kind: DeadPointKind
     group: str
     joints: tuple[str, ...]
     message: str
 
 
 @dataclass(frozen=True)
-class Sweep:
-    """The result of a sweep: steps, dead points, status and what was solved."""
+class Sweep(Result):
+    """The result of a sweep: steps, dead points, status and what was solved.
+
+    ``status`` is COMPLETE when the whole range was swept, STOPPED when a
+    dead point ended it (the steps hold what was reached); ``max_residual``
+    and each step's residual and condition number show how good the numbers are.
+    """
 
     joint: str
     steps: tuple[Step, ...]
     dead_points: tuple[DeadPoint, ...]
-    status: str
+    status: Status
     reachable: tuple[float, float]
     groups_solved: int
     groups_total: int
@@ -76,6 +96,20 @@ class Sweep:
     @property
     def max_residual(self) -> float:
         return max((s.residual for s in self.steps), default=0.0)
+
+    @property
+    def max_condition(self) -> float:
+        return max((s.condition for s in self.steps), default=1.0)
+
+    @property
+    def message(self) -> str:
+        scale = math.degrees if self.angular else float
+        unit = "°" if self.angular else ""
+        lo, hi = (scale(x) for x in self.reachable)
+        text = (f"{self.status}: input {self.joint} swept {lo:.6g}{unit} .. {hi:.6g}{unit} in {len(self.steps)} steps, "
+                f"max residual {self.max_residual:.2g}, {len(self.dead_points)} dead points")
+        stop = next((d for d in self.dead_points if d.kind != DeadPointKind.SINGULAR), None)
+        return text + (f"; stopped: {stop.message}" if self.status is Status.STOPPED and stop else "")
 
 
 class _Stuck(Exception):
@@ -167,32 +201,36 @@ def solve(mech: Mechanism, q: float | None = None, outputs=None, order: int = 0,
 
 
 def sweep(mech: Mechanism, start: float, stop: float, step: float | None = None, outputs=None, order: int = 0,
-          method: str = "assur", accuracy=None, joint: str | None = None, others: dict | None = None) -> Sweep:
+          method: str = "assur", accuracy=None, joint: str | None = None, others: dict | None = None,
+          progress: Progress | None = None) -> Sweep:
     """Sweep the driven ``joint`` (default: the first input) from ``start`` to ``stop``.
 
     Angles in rad, lengths in the file's unit; ``step`` defaults to the
-    accuracy's resolution. Other inputs stay at their drawn values (or
-    ``others``).
+    accuracy's resolution (the ``accuracy`` knob: a preset name or an
+    :class:`~domes.motion.planar.query.Accuracy`). Other inputs stay at their
+    drawn values (or ``others``).
     """
     kin = Kinematics(mech, outputs, order, method, accuracy)
-    return run_sweep(kin, start, stop, step, joint, others)
+    return run_sweep(kin, start, stop, step, joint, others, progress)
 
 
-def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None) -> Sweep:
+def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None, progress: Progress | None = None) -> Sweep:
     """:func:`sweep` with a compiled query."""
     cont = Continuation(kin, joint, others)
     qs = grid(start, stop, step or cont.h)
     state = cont.start(qs[0])
     steps: list[Step] = []
     dead: list[DeadPoint] = []
-    status = "complete"
+    status = Status.COMPLETE
     qa = qs[0]
-    for q in qs:
+    clock = Ticker(progress)
+    for number, q in enumerate(qs, 1):
+        clock.tick(lambda: f"step {number}/{len(qs)}: input {cont.fmt(q)}")
         try:
             state = cont.walk(state, qa, q)
         except _Stuck as st:
             dead.append(_dead_point(kin, cont, st))
-            status = "stopped"
+            status = Status.STOPPED
             break
         qa = q
         steps.append(_step(kin, cont, q, state, dead))
@@ -209,7 +247,7 @@ def _step(kin, cont, q, state, dead) -> Step:
     try:
         return kin.at(cont.inputs(q), state)
     except SolveFailure as f:  # singular Jacobian exactly at a grid point: positions only
-        dead.append(DeadPoint(q, 4 * math.sqrt(2.2e-16) * (1.0 if cont.angular else kin.size), "singular",
+        dead.append(DeadPoint(q, 4 * math.sqrt(2.2e-16) * (1.0 if cont.angular else kin.size), DeadPointKind.SINGULAR,
                               f.group.label, f.group.joints,
                               f"{f} (input {cont.fmt(q)}); derivatives set to NaN"))
         step = kin.at(cont.inputs(q), state, order=0)
@@ -226,7 +264,7 @@ def _nan(state):
 
 def _dead_point(kin, cont, st: _Stuck) -> DeadPoint:
     f = st.failure
-    kind = {"undetermined": "undetermined", "jump": "discontinuity"}.get(f.kind, "limit")
+    kind = {"undetermined": DeadPointKind.UNDETERMINED, "jump": DeadPointKind.DISCONTINUITY}.get(f.kind, DeadPointKind.LIMIT)
     q = 0.5 * (st.good + st.bad)
     what = {"limit": "a limit (dead) position", "undetermined": "the pose is undetermined there",
             "discontinuity": "the pose would jump there (a bifurcation)"}[kind]
@@ -258,7 +296,7 @@ def _refine_peaks(kin, cont, steps, dead):
 
     def report(q, within, group, text):
         if not any(abs(q - d) <= max(2 * cont.locate, within) for d in known):
-            dead.append(DeadPoint(q, within, "singular", group.label, group.joints, text))
+            dead.append(DeadPoint(q, within, DeadPointKind.SINGULAR, group.label, group.joints, text))
             known.append(q)
 
     for k in range(1, len(steps) - 1):
