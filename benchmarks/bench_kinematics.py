@@ -13,6 +13,7 @@ the tests only, not at runtime.
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 import time
@@ -166,7 +167,8 @@ def located(preset, method):
     return (float(e9), t9), (ec, tc), (float(er), tr)
 
 
-def main():
+def main(argv=None):
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
     cache = {}
     rows = []
     settings = [(name, method, name) for name in ("fast", "default", "exact") for method in ("assur", "newton")]

@@ -19,12 +19,12 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from domes.io.criteria import read_knowledge  # noqa: E402
+from domes.io.resources import knowledge_dir  # noqa: E402
 from domes.knowledge.frames import CriterionFrame  # noqa: E402
 from domes.knowledge.screening import screen  # noqa: E402
 from domes.language.evaluate import compile_criterion, graph_features  # noqa: E402
 from domes.model import LabelledChain  # noqa: E402
 from domes.model.labelled import share_topologies  # noqa: E402
-from domes.store.casebase import repo_root  # noqa: E402
 from domes.typesynth import chains  # noqa: E402
 
 EXTRA = [
@@ -80,7 +80,7 @@ def main(argv=None) -> None:
     parser.add_argument("--graphs", type=int, default=10_000)
     args = parser.parse_args(argv)
     graphs = candidates(args.graphs)
-    criteria = read_knowledge(repo_root() / "knowledge") + [CriterionFrame.create(i, t) for i, t in EXTRA]
+    criteria = read_knowledge(knowledge_dir()) + [CriterionFrame.create(i, t) for i, t in EXTRA]
     tests = [compile_criterion(c.tree) for c in criteria]
 
     start = time.perf_counter()

@@ -16,6 +16,7 @@ polyline, relative to the mechanism's size and in pixels of a 400-px drawing.
 
 from __future__ import annotations
 
+import argparse
 import math
 import os
 import statistics
@@ -37,10 +38,7 @@ from domes.sketch import (  # noqa: E402
     regeneration_html,
     skeleton_layout,
 )
-from domes.typesynth import (
-    chains,  # noqa: E402
-    regenerate,  # noqa: E402
-)
+from domes.typesynth import chains, regenerate  # noqa: E402
 
 EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "mechanisms")
 CURVES = [("four-bar.json", "P"), ("eight-bar-class-iv.json", "K"), ("swing-arm-shock.json", "axle")]
@@ -48,7 +46,8 @@ CURVES = [("four-bar.json", "P"), ("eight-bar-class-iv.json", "K"), ("swing-arm-
 SETTINGS = [(0, 0), (8, 0), (8, 30), (8, 100), (16, 300)]
 
 
-def main() -> None:
+def main(argv=None) -> None:
+    argparse.ArgumentParser(description=__doc__.splitlines()[0]).parse_args(argv)
     print(f"{'atlas':>16} {'equalize':>8} {'refine':>6} {'ms/chain':>9} {'min gap':>8} {'worst ratio':>11} {'median ratio':>12}")
     atlases = [("8-bar", chains(links=8, dof=1), SETTINGS), ("10-bar", chains(links=10, dof=1), SETTINGS)]
     atlases.append(("12-bar/20", chains(links=12, dof=1)[::20], [(8, 0), (8, 100)]))  # every 20th chain

@@ -13,13 +13,7 @@ from domes.model import LabelledChain
 from domes.motion import solve, sweep
 from domes.motion.planar.examples import four_bar, triple_rocker
 from domes.results import Result, Status
-from domes.typesynth import (
-    chains,
-    generalize,
-    label_joints,
-    number_synthesis,
-    regenerate,
-)
+from domes.typesynth import chains, generalize, label_joints, number_synthesis, regenerate
 
 FOUR_BAR = [(0, 1), (1, 2), (2, 3), (0, 3)]
 

@@ -13,12 +13,7 @@ from domes.errors import InputError
 from domes.expert.dialogue import Dialogue
 from domes.expert.replay import record_case, replay, scratch_casebase, shipped_cases
 from domes.expert.world import frame_text
-from domes.io.transcripts import (
-    load_session,
-    read_answers,
-    save_session,
-    write_transcript,
-)
+from domes.io.transcripts import load_session, read_answers, save_session, write_transcript
 from domes.store.casebase import DB_ENV, KnowledgeBase
 
 STATE = ".domes-design-session.json"

@@ -84,9 +84,7 @@ def run_regenerate(args: argparse.Namespace) -> int:
         json.dump(result.to_dict(new_only=args.new_only), sys.stdout, indent=1)
         sys.stdout.write("\n")
     elif args.format == "html":
-        from domes.sketch.atlas import (
-            regeneration_html,  # the drawing stage, loaded only when asked
-        )
+        from domes.sketch.atlas import regeneration_html  # the drawing stage, loaded only when asked
 
         sys.stdout.write(regeneration_html(result, new_only=args.new_only))
     else:

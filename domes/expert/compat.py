@@ -19,17 +19,6 @@ for _name in ("Mapping", "MutableMapping", "Sequence", "MutableSequence", "Itera
     if not hasattr(collections, _name):
         setattr(collections, _name, getattr(collections.abc, _name))
 
-from experta import (  # noqa: E402
-    AS,
-    MATCH,
-    NOT,
-    TEST,
-    DefFacts,
-    Fact,
-    Field,
-    KnowledgeEngine,
-    Rule,
-    W,
-)
+from experta import AS, MATCH, NOT, TEST, DefFacts, Fact, Field, KnowledgeEngine, Rule, W  # noqa: E402
 
 __all__ = ["AS", "MATCH", "NOT", "TEST", "W", "DefFacts", "Fact", "Field", "KnowledgeEngine", "Rule"]

@@ -21,15 +21,7 @@ from __future__ import annotations
 
 from domes.errors import InputError
 from domes.expert.compat import AS, MATCH, NOT, DefFacts, KnowledgeEngine, Rule
-from domes.expert.facts import (
-    QUESTION_ORDER,
-    STRUCTURAL,
-    Ask,
-    Attr,
-    Needed,
-    Phase,
-    Relation,
-)
+from domes.expert.facts import QUESTION_ORDER, STRUCTURAL, Ask, Attr, Needed, Phase, Relation
 
 
 class DesignExpert(KnowledgeEngine):

@@ -20,13 +20,7 @@ from domes.language.parse import normalise_name, parse_criterion
 from domes.language.tree import names_used
 from domes.model.labelled import JOINT_TYPES
 from domes.model.mobility import chain_joints
-from domes.typesynth.scene import (
-    SELECTIONS,
-    Particularization,
-    Scene,
-    Stage,
-    impossible_degree,
-)
+from domes.typesynth.scene import SELECTIONS, Particularization, Scene, Stage, impossible_degree
 
 _STAGE_KEYS = {"name", "role", "select", "rules", "note"}
 _TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book"}

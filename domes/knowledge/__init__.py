@@ -13,12 +13,7 @@ business of :mod:`domes.store`, how they are read from files that of
 
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
-from domes.knowledge.relevance import (
-    Problem,
-    RelevanceVector,
-    is_relevant,
-    relevance_vector,
-)
+from domes.knowledge.relevance import Problem, RelevanceVector, is_relevant, relevance_vector
 from domes.knowledge.screening import CostlyCriterion, ScreeningResult, screen
 
 __all__ = [

@@ -24,15 +24,7 @@ from typing import Any, Iterable, Mapping
 from domes.errors import DomesError, InputError
 from domes.language.parse import parse_criterion, parse_relevance
 from domes.language.render import render_criterion, render_relevance
-from domes.language.tree import (
-    AllOf,
-    Always,
-    Criterion,
-    HasName,
-    Relevance,
-    category,
-    names_used,
-)
+from domes.language.tree import AllOf, Always, Criterion, HasName, Relevance, category, names_used
 from domes.language.tree import level as cost_level
 
 ID_PATTERN = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.\-]{0,63}$")

@@ -26,17 +26,7 @@ from typing import Iterable, Mapping
 
 from domes.errors import InputError
 from domes.language.parse import normalise_name
-from domes.language.tree import (
-    PROBLEM_ATTRIBUTES,
-    AllOf,
-    Always,
-    AnyOf,
-    Attribute,
-    ClassIs,
-    HasName,
-    NoneOf,
-    Relevance,
-)
+from domes.language.tree import PROBLEM_ATTRIBUTES, AllOf, Always, AnyOf, Attribute, ClassIs, HasName, NoneOf, Relevance
 
 
 @dataclass(frozen=True)

@@ -15,12 +15,7 @@ are written in it; it is never evaluated as code.
 
 from domes.language.evaluate import compile_criterion, graph_features, holds
 from domes.language.explain import explain
-from domes.language.parse import (
-    CriterionSyntaxError,
-    normalise_name,
-    parse_criterion,
-    parse_relevance,
-)
+from domes.language.parse import CriterionSyntaxError, normalise_name, parse_criterion, parse_relevance
 from domes.language.render import render_criterion, render_relevance
 
 __all__ = [

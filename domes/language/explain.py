@@ -11,13 +11,7 @@ True
 
 from __future__ import annotations
 
-from domes.language.evaluate import (
-    Features,
-    compile_criterion,
-    compile_loop,
-    compile_vertex,
-    graph_features,
-)
+from domes.language.evaluate import Features, compile_criterion, compile_loop, compile_vertex, graph_features
 from domes.language.render import comparison_text, condition_text
 from domes.language.tree import Count, Criterion
 from domes.model.labelled import LabelledChain

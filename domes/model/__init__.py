@@ -17,14 +17,7 @@ One model serves the whole pipeline, from type synthesis to kinematics:
 
 from domes.model.chain import Branch, Chain, chain_properties
 from domes.model.labelled import JOINT_TYPES, LabelledChain
-from domes.model.mechanism import (
-    CouplerPoint,
-    Input,
-    Joint,
-    Mechanism,
-    Polygon,
-    from_labelled,
-)
+from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism, Polygon, from_labelled
 from domes.model.mobility import PLANAR, SPATIAL, chain_joints, chain_loops, mobility
 
 __all__ = [

@@ -150,14 +150,10 @@ class LabelledChain:
     def _types(self) -> dict[Edge, str]:
         return dict(zip(self.edges, self.joint_types))
 
-    @cached_property
+    @property
     def neighbours(self) -> tuple[tuple[int, ...], ...]:
         """The links jointed to each link."""
-        adjacency: list[list[int]] = [[] for _ in range(self.n)]
-        for u, v in self.edges:
-            adjacency[u].append(v)
-            adjacency[v].append(u)
-        return tuple(tuple(a) for a in adjacency)
+        return self.topology.adjacency
 
     @property
     def degrees(self) -> tuple[int, ...]:

@@ -16,23 +16,8 @@ verification checks of the design process.
 (0.459213879, -0.995656642)
 """
 
-from domes.model.mechanism import (
-    CouplerPoint,
-    Input,
-    Joint,
-    Mechanism,
-    Polygon,
-    from_labelled,
-)
-from domes.motion.planar.query import (
-    PRESETS,
-    Accuracy,
-    FailureKind,
-    Kinematics,
-    SolveFailure,
-    Step,
-    accuracy,
-)
+from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism, Polygon, from_labelled
+from domes.motion.planar.query import PRESETS, Accuracy, FailureKind, Kinematics, SolveFailure, Step, accuracy
 from domes.motion.planar.structure import Structure
 from domes.motion.planar.sweep import DeadPoint, DeadPointKind, Sweep, solve, sweep
 

@@ -19,20 +19,9 @@ from domes.sketch.atlas import (
     mechanism_card,
     regeneration_html,
 )
-from domes.sketch.dimensioned import (
-    CouplerCurve,
-    Pose,
-    coupler_curves,
-    dimensioned_svg,
-    pose,
-)
+from domes.sketch.dimensioned import CouplerCurve, Pose, coupler_curves, dimensioned_svg, pose
 from domes.sketch.draw import chain_svg
-from domes.sketch.layout import (
-    SkeletonLayout,
-    layout_from_positions,
-    layout_quality,
-    skeleton_layout,
-)
+from domes.sketch.layout import SkeletonLayout, layout_from_positions, layout_quality, skeleton_layout
 from domes.sketch.mechanism import mechanism_svg
 
 __all__ = [

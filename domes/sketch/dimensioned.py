@@ -29,15 +29,7 @@ from dataclasses import dataclass
 from typing import Mapping, Sequence
 
 from domes.errors import DomesError, InputError
-from domes.motion import (
-    CouplerPoint,
-    DeadPoint,
-    DeadPointKind,
-    Kinematics,
-    Mechanism,
-    solve,
-    sweep,
-)
+from domes.motion import CouplerPoint, DeadPoint, DeadPointKind, Kinematics, Mechanism, solve, sweep
 from domes.results import Status
 from domes.sketch import symbols
 from domes.sketch.draw import INK, PLATE_FILL, Frame

@@ -33,22 +33,8 @@ import math
 from typing import Mapping
 
 from domes.sketch import symbols
-from domes.sketch.draw import (
-    INK,
-    PLATE_FILL,
-    SIZE,
-    Frame,
-    joint_circles,
-    label_point,
-    link_shape,
-    median_link_length,
-)
-from domes.sketch.layout import (
-    Point,
-    SkeletonLayout,
-    layout_from_positions,
-    skeleton_layout,
-)
+from domes.sketch.draw import INK, PLATE_FILL, SIZE, Frame, joint_circles, label_point, link_shape, median_link_length
+from domes.sketch.layout import Point, SkeletonLayout, layout_from_positions, skeleton_layout
 from domes.sketch.svg import document, num, tag
 
 Edge = tuple[int, int]

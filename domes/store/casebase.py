@@ -24,8 +24,9 @@ domes.errors.InputError: a criterion with id 'c1' is already in the knowledge ba
 from __future__ import annotations
 
 import os
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Iterator
 
 from sqlalchemy import create_engine, func, inspect, select
 from sqlalchemy.engine import Engine, make_url
@@ -34,21 +35,10 @@ from sqlalchemy.orm import Session
 
 from domes.errors import DomesError, InputError
 from domes.io.criteria import check_unique, read_cases, read_knowledge
-from domes.io.resources import (
-    default_casebase,
-    knowledge_dir,
-    shipped_casebase,
-    user_casebase,
-)
+from domes.io.resources import default_casebase, knowledge_dir, shipped_casebase, user_casebase
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
-from domes.store.models import (
-    SCHEMA_VERSIONS,
-    Base,
-    CriterionRow,
-    ProblemRow,
-    SchemaVersion,
-)
+from domes.store.models import SCHEMA_VERSIONS, Base, CriterionRow, ProblemRow, SchemaVersion
 
 DB_ENV = "DOMES_DB"
 
@@ -150,6 +140,18 @@ class KnowledgeBase:
     def close(self) -> None:
         self.engine.dispose()
 
+    @contextmanager
+    def _unit(self) -> Iterator[Session]:
+        """One unit of work that changes the case base: one session, one transaction, all or nothing."""
+        try:
+            with Session(self.engine) as session, session.begin():
+                yield session
+        except SQLAlchemyError as exc:
+            reason = str(getattr(exc, "orig", None) or exc).splitlines()[0]
+            hint = ("the embedded case base is read-only: open it with write=True to change your own copy, "
+                    "or give --db / DOMES_DB") if "readonly" in reason else "nothing was changed"
+            raise InputError(f"cannot change the case base {self.url}: {reason}; {hint}") from None
+
     def __enter__(self) -> "KnowledgeBase":
         return self
 
@@ -220,18 +222,18 @@ class KnowledgeBase:
         """Add frames, all or none: duplicate ids (among them or with the knowledge base) are refused."""
         frames = list(frames)
         check_unique(frames, "import")
-        with Session(self.engine) as session, session.begin():
+        with self._unit() as session:
             self._insert(session, frames)
 
     def update(self, frame: CriterionFrame) -> None:
         """Replace the stored frame that has ``frame.id`` (its position is kept)."""
-        with Session(self.engine) as session, session.begin():
+        with self._unit() as session:
             row = self._row(session, frame.id)
             for column, value in CriterionRow.columns_of(frame).items():
                 setattr(row, column, value)
 
     def remove(self, criterion_id: str) -> None:
-        with Session(self.engine) as session, session.begin():
+        with self._unit() as session:
             session.delete(self._row(session, criterion_id))
 
     # -- solved-problem frames (Table 7-1) -----------------------------------------------
@@ -273,11 +275,11 @@ class KnowledgeBase:
 
     def retain(self, frame: ProblemFrame, replace: bool = False) -> None:
         """Store a solved problem (one transaction); an existing id is refused unless ``replace``."""
-        with Session(self.engine) as session, session.begin():
+        with self._unit() as session:
             self._insert_problems(session, [frame], replace)
 
     def remove_problem(self, problem_id: str) -> None:
-        with Session(self.engine) as session, session.begin():
+        with self._unit() as session:
             row = session.get(ProblemRow, problem_id)
             if row is None:
                 raise InputError(f"no case {problem_id!r} in the case base (see `domes cases list`)")

@@ -21,14 +21,7 @@ from domes.typesynth.number import (
     link_assortments,
     number_synthesis,
 )
-from domes.typesynth.regenerate import (
-    Candidate,
-    EmptyStage,
-    Regeneration,
-    StageResult,
-    particularize,
-    regenerate,
-)
+from domes.typesynth.regenerate import Candidate, EmptyStage, Regeneration, StageResult, particularize, regenerate
 from domes.typesynth.scene import Particularization, Scene, Stage
 
 __all__ = [

@@ -17,14 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from domes.errors import InputError
-from domes.model.mobility import (
-    PLANAR,
-    SPATIAL,
-    chain_joints,
-    chain_loops,
-    check_count,
-    mobility,
-)
+from domes.model.mobility import PLANAR, SPATIAL, chain_joints, chain_loops, check_count, mobility
 from domes.results import Result, Status
 
 __all__ = ["LinkAssortment", "NumberSynthesis", "chain_joints", "chain_loops", "link_assortments", "number_synthesis"]

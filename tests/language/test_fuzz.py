@@ -14,12 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from domes.language.evaluate import compile_criterion, graph_features
-from domes.language.parse import (
-    KEYWORDS,
-    CriterionSyntaxError,
-    parse_criterion,
-    parse_relevance,
-)
+from domes.language.parse import KEYWORDS, CriterionSyntaxError, parse_criterion, parse_relevance
 from domes.language.render import render_criterion, render_relevance
 from domes.language.tree import (
     PROBLEM_ATTRIBUTES,

@@ -6,12 +6,7 @@ import pytest
 
 from domes.errors import DomesError
 from domes.io.criteria import read_knowledge
-from domes.language.parse import (
-    CriterionSyntaxError,
-    parse_criterion,
-    parse_relevance,
-    tokenize,
-)
+from domes.language.parse import CriterionSyntaxError, parse_criterion, parse_relevance, tokenize
 from domes.language.render import render_criterion, render_relevance
 from domes.language.tree import (
     Adjacent,

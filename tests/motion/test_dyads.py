@@ -185,12 +185,7 @@ def test_k01_displacement_matrix_example_1():
 
 def test_k02_to_k04_rigid_velocity_and_acceleration_matrices():
     # K-02: D is rigid (distances kept); K-03/K-04: V·[q;1] and A·[q;1] match FD of D(t)·[q1;1] (1e-7 / 1e-5 rel).
-    from domes.motion.planar.matrices import (
-        acceleration_matrix,
-        apply,
-        displacement_matrix,
-        velocity_matrix,
-    )
+    from domes.motion.planar.matrices import acceleration_matrix, apply, displacement_matrix, velocity_matrix
     p1, q1, r1 = (0.3, -0.2), (1.7, 0.9), (-0.4, 2.2)
 
     def th(t):

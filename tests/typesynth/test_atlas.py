@@ -7,13 +7,7 @@ V = 1..4 from Table 3-4 (digest A2).
 
 import networkx as nx
 import pytest
-from reference import (
-    GENG,
-    brute_force_degenerate,
-    geng_chains,
-    match_into,
-    pairwise_isomorphic,
-)
+from reference import GENG, brute_force_degenerate, geng_chains, match_into, pairwise_isomorphic
 
 from domes.typesynth import ChainGenerator, chains
 

@@ -7,14 +7,7 @@ import pytest
 
 from domes.errors import DomesError
 from domes.io.resources import knowledge_dir
-from domes.io.topology import (
-    from_mtm,
-    from_type_matrix,
-    read_topology,
-    to_mtm,
-    type_matrix,
-    write_topology,
-)
+from domes.io.topology import from_mtm, from_type_matrix, read_topology, to_mtm, type_matrix, write_topology
 from domes.model import LabelledChain
 from domes.typesynth import chains, generalize, label_joints
 

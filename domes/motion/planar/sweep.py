@@ -26,14 +26,7 @@ import numpy as np
 
 from domes.errors import InputError, NumericalError
 from domes.model.mechanism import Mechanism
-from domes.motion.planar.query import (
-    PRESETS,
-    SINGULAR_CONDITION,
-    Accuracy,
-    Kinematics,
-    SolveFailure,
-    Step,
-)
+from domes.motion.planar.query import PRESETS, SINGULAR_CONDITION, Accuracy, Kinematics, SolveFailure, Step
 from domes.results import Progress, Result, Status, Ticker
 
 #: Condition numbers above this, at a local peak, are refined to look for a singular point.
