@@ -25,11 +25,15 @@ def progress_printer(enabled: bool | None = None) -> Progress | None:
     return lambda message: print(f"... {message}", file=sys.stderr, flush=True)
 
 
+#: The help text of every --db option.
+DB_HELP = (f"SQLAlchemy URL or SQLite file of the case base (default: ${DB_ENV}, else your case base, "
+           "made from the embedded casebase.db when you first change something)")
+
+
 def db_option() -> argparse.ArgumentParser:
     """A parent parser with ``--db URL``: the case base of a subcommand."""
     parent = argparse.ArgumentParser(add_help=False)
-    parent.add_argument("--db", metavar="URL",
-                        help=f"SQLAlchemy URL or SQLite file of the case base (default: ${DB_ENV}, else casebase.db)")
+    parent.add_argument("--db", metavar="URL", help=DB_HELP)
     return parent
 
 

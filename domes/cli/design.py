@@ -9,12 +9,13 @@ import sys
 import tempfile
 from pathlib import Path
 
+from domes.cli.common import DB_HELP
 from domes.errors import InputError
 from domes.expert.dialogue import Dialogue
 from domes.expert.replay import record_case, replay, scratch_casebase, shipped_cases
 from domes.expert.world import frame_text
 from domes.io.transcripts import load_session, read_answers, save_session, write_transcript
-from domes.store.casebase import DB_ENV, KnowledgeBase
+from domes.store.casebase import KnowledgeBase
 
 STATE = ".domes-design-session.json"
 
@@ -33,11 +34,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     d.add_argument("--state", metavar="FILE", default=STATE, help=f"where an interrupted session is saved (default {STATE})")
     d.add_argument("--no-vary", action="store_true", help="do not vary loops and gear pairs when everything is eliminated")
     d.add_argument("--dry-run", action="store_true", help="work on a scratch copy of the case base: keep nothing")
-    d.add_argument("--db", metavar="URL", help=f"case base (default: ${DB_ENV}, else casebase.db)")
+    d.add_argument("--db", metavar="URL", help=DB_HELP)
     d.set_defaults(func=run_design)
 
     c = sub.add_parser("cases", help="solved problems: list, show, replay, record, remove")
-    c.add_argument("--db", metavar="URL", help=f"case base (default: ${DB_ENV}, else casebase.db)")
+    c.add_argument("--db", metavar="URL", help=DB_HELP)
     cs = c.add_subparsers(dest="action", metavar="ACTION")
     cs.required = True
     cs.add_parser("list", help="the solved problems").set_defaults(func=run_list)

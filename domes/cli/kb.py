@@ -7,7 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-from domes.cli.common import write_output
+from domes.cli.common import db_option, write_output
 from domes.errors import DomesError, InputError
 from domes.io.criteria import FORMATS, check_unique, dumps_json, dumps_toml, read_file
 from domes.io.graphs import parse_labelled_graphs, read_labelled_graphs
@@ -27,13 +27,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "kb",
         help="the knowledge base of screening criteria (criterion frames, Table 7-2)",
         description="Parse criteria written in the criterion language, and keep the knowledge base of "
-        f"criterion frames: casebase.db at the top of the checkout, or --db URL / {DB_ENV}. "
+        f"criterion frames: your case base (made from the embedded casebase.db on the first edit), or --db URL / {DB_ENV}. "
         "Every edit is one transaction; a refused edit changes nothing.",
     )
     kb = p.add_subparsers(dest="kb_command", metavar="ACTION")
     kb.required = True
-    db = argparse.ArgumentParser(add_help=False)
-    db.add_argument("--db", metavar="URL", help=f"SQLAlchemy URL or SQLite file of the case base (default: ${DB_ENV}, else casebase.db)")
+    db = db_option()
 
     q = kb.add_parser("parse", help="print the parsed criterion as JSON (exit 2 if it does not parse)")
     q.add_argument("text", help="a criterion, e.g. 'the swing arm is adjacent to the ground'")
@@ -83,7 +82,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.set_defaults(func=run_check)
 
     q = kb.add_parser("build", parents=[db], help="build the case base from the knowledge sources")
-    q.add_argument("--from", dest="source", metavar="DIR", help=f"knowledge sources folder (default: ${KNOWLEDGE_ENV}, else knowledge/)")
+    q.add_argument("--from", dest="source", metavar="DIR", help=f"knowledge sources folder (default: ${KNOWLEDGE_ENV}, else the shipped knowledge)")
     q.set_defaults(func=run_build)
 
     q = kb.add_parser(
