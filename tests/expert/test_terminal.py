@@ -1,6 +1,7 @@
 """`domes design` on a real terminal (pexpect): typed answers, the candidates read from the screen."""
 
 import shutil
+import signal
 import sys
 from pathlib import Path
 
@@ -27,9 +28,12 @@ ANSWERS = [
 
 
 def spawn(casebase, *extra, cwd):
+    # SIGINT back to its default in the child (a runner started in the background has it ignored, and
+    # Ctrl-C would then never reach the session); a generous timeout for a loaded machine
     return pexpect.spawn(
         sys.executable, ["-m", "domes", "design", "--db", casebase, *extra],
-        cwd=str(cwd), encoding="utf-8", timeout=60, dimensions=(50, 200),
+        cwd=str(cwd), encoding="utf-8", timeout=180, dimensions=(50, 200),
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
 
 

@@ -101,6 +101,9 @@ def test_ctrl_c_stops_cleanly():
     proc = subprocess.Popen(
         [sys.executable, "-m", "domes", "chains", "--links", "12", "--dof", "1", "--count", "--progress"],
         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        # a test runner started in the background inherits SIGINT ignored; Python then never raises
+        # KeyboardInterrupt: give the child the default disposition, as a terminal would
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     first = proc.stderr.readline()  # the generator is at work once it reports progress
     assert first.startswith("...")
