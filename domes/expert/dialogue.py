@@ -17,11 +17,15 @@ from typing import Callable
 from domes.errors import DomesError, InputError
 from domes.expert.engine import DesignExpert
 from domes.expert.questions import (
+    HELP,
     STATIC,
     Question,
+    names_help,
     overrides_parser,
+    parse_names,
     parse_scene_answer,
     relation_parser,
+    satisfied_parser,
     verify_parser,
 )
 from domes.expert.world import World
@@ -76,6 +80,13 @@ class Dialogue:
     def question(self, engine: DesignExpert, qid: str) -> Question:
         if qid in STATIC:
             return STATIC[qid]
+        if qid == "names":
+            return Question("names", "Representative attributes and special links, comma separated (or none; '?' lists "
+                            "the names the criteria know)", parse_names, "none", names_help(self.world.known_names()))
+        if qid == "satisfied":
+            ids = list(engine.attr("relevance").ids)
+            return Question("satisfied", "Is the result satisfactory? (yes/no; 'rejected' lists the rejected candidates; "
+                            "-ID relaxes a criterion and designs again)", satisfied_parser(ids), "yes", HELP["satisfied"])
         if qid == "relation":
             cases = self.world.solved_in_class(engine.attr("class"))
             self.say(f"Solved problems of class {engine.attr('class')!r}:")
@@ -85,7 +96,7 @@ class Dialogue:
                          f"attributes {', '.join(sorted(c.names)) or 'none'}")
             ids = [c.id for c in cases]
             return Question("relation", "Is your problem the same as, similar to, or different from one of these? "
-                            "(same ID / similar ID / different)", relation_parser(ids), f"same {ids[-1]}")
+                            "(same ID / similar ID / different)", relation_parser(ids), f"same {ids[-1]}", HELP["relation"])
         if qid == "scene":
             problem_class = engine.attr("class") or ""
             _, case = self.world.relation
@@ -94,15 +105,15 @@ class Dialogue:
             known = scene_names()
             default = default or next((s for s in known if slug == s or slug.startswith(s)), None)
             return Question("scene", f"Scene whose rules give the links their roles ({', '.join(known)}, or none)",
-                            parse_scene_answer, default or "none")
+                            parse_scene_answer, default or "none", HELP["scene"])
         if qid == "verify":
             kept = {c["id"]: LabelledChain.from_dict(c) for c in self.world.run_result.kept}
             return Question("verify", "Verify dimensions? (none, or CANDIDATE FILE.json CHECK; CHECK is rotatability "
-                            "or range OUTPUT FROM:TO)", verify_parser(kept), "none")
+                            "or range OUTPUT FROM:TO)", verify_parser(kept), "none", HELP["verify"])
         if qid == "relevance_overrides":
             ids = list(engine.attr("relevance_default").ids)
             return Question("relevance_overrides", "Override relevance? (none, or criterion ids: ID or +ID relevant, -ID irrelevant)",
-                            overrides_parser(ids), "none")
+                            overrides_parser(ids), "none", HELP["relevance_overrides"])
         raise InputError(f"the engine asked an unknown question {qid!r}")
 
     def answer(self, engine: DesignExpert, q: Question):
@@ -114,6 +125,10 @@ class Dialogue:
             if q.id == "satisfied" and text.strip().lower() == "rejected":
                 self._record(q, text, True)
                 self.say(rejected_text(self.world))
+                continue
+            if text.strip().lower() in ("?", "help"):
+                self._record(q, text, True)
+                self.say(q.help or f"Answer: {q.prompt}")
                 continue
             try:
                 value = q.parse(text)
@@ -128,6 +143,11 @@ class Dialogue:
         prompt = f"{q.prompt}" + (f" [{q.default}]" if q.default is not None else "") + ": "
         if self.used < len(self.script):
             question, text = self.script[self.used]
+            if question != q.id and q.id == "relation":
+                # answers written for a new problem, run where its class is known: a different problem
+                self.say(prompt + "different")
+                self.say("  (the answers do not say how the problem relates to the solved ones: a different problem)")
+                return "different"
             self.used += 1
             if question != q.id:
                 raise InputError(f"answer {self.used} is for {question!r}, but the question is {q.id!r} ({q.prompt})")
@@ -155,11 +175,15 @@ class Dialogue:
             engine.run()
         relation, case = self.world.relation
         frame = self.world.retained or self.world.shown
-        if frame is None:
+        if frame is None and (self.world.run_result is None or self.world.run_result.kept):
             known = sorted(str(f.get("name", f.get("id", ""))) for f in engine.facts.values() if hasattr(f, "get"))
             raise InputError(f"the design dialogue stopped without a result (known: {', '.join(known)})")
         if self.world.shown is not None:
             relation, case = "same", self.world.shown.id
+        left = self.script[self.used:]
+        if left:
+            first = f"{left[0][0]}: {left[0][1]}"
+            self.say(f"({len(left)} answer(s) not needed, from '{first}' on: the dialogue ended before those questions)")
         return Outcome(relation, case, frame, self.exchanges)
 
 
@@ -167,7 +191,9 @@ def rejected_text(world: World) -> str:
     run = world.run_result
     if run is None or not run.rejected:
         return "No candidate was rejected."
+    words = {f.id: f.explanation for f in world.criteria()}
     lines = [f"{len(run.rejected)} rejected candidates:"]
     for r in run.rejected:
-        lines.append(f"  candidate {r['candidate']}: rejected by {r['criterion']} (level {r['level']}): {r['reason']}")
+        why = f" ({words[r['criterion']]})" if words.get(r["criterion"]) else ""
+        lines.append(f"  candidate {r['candidate']}: rejected by {r['criterion']}{why} (level {r['level']}): {r['reason']}")
     return "\n".join(lines)

@@ -27,10 +27,16 @@ from domes.model.mechanism import Mechanism
 
 @dataclass(frozen=True)
 class Question:
+    """A question of the dialogue: its prompt, the parser of its answers, a default and a help text.
+
+    Answering ``?`` or ``help`` shows the help text and asks again.
+    """
+
     id: str
     prompt: str
     parse: Callable[[str], Any]
     default: str | None = None
+    help: str = ""
 
 
 def parse_int_range(low: int, high: int) -> Callable[[str], int]:
@@ -136,18 +142,68 @@ def overrides_parser(ids: list[str]) -> Callable[[str], list[tuple[str, int]]]:
     return parse
 
 
+def satisfied_parser(ids: list[str]) -> Callable[[str], bool | list[tuple[str, int]]]:
+    """``yes``, ``no``, or criterion ids to relax (``-ID``) or add back (``+ID``) and design again."""
+    overrides = overrides_parser(ids)
+
+    def parse(text: str) -> bool | list[tuple[str, int]]:
+        if text.strip()[:1] in ("-", "+"):
+            return overrides(text)
+        return parse_yes_no(text)
+
+    return parse
+
+
+HELP = {
+    "class": "The kind of device, in a few words (e.g. motorcycle rear suspension, window lifter). Problems of "
+             "one class are compared with each other: the same, similar or different.",
+    "outputs": "How many independent output motions the mechanism delivers (usually 1).",
+    "dof": "The degrees of freedom W: how many inputs drive the mechanism (1 for a single motor or cylinder).",
+    "space": "planar (λ = 3): every link moves in one plane; spatial (λ = 6) problems get their numbers of links "
+             "and joints, but the chain atlas is planar.",
+    "loops": "Independent loops L: the closed loops of the chain that are independent, L = joints − links + 1. "
+             "A four-bar or a slider-crank has 1; a six-bar (Watt, Stephenson) 2; an eight-bar 3. With W the DOF "
+             "and revolute or sliding joints, the chain has W + 2L + 1 links and W + 3L joints.",
+    "gear_pairs": "How many gear pairs (each a joint of two degrees of freedom, j_G).",
+    "slider_pairs": "How many prismatic (sliding) pairs, e.g. 1 for a piston in its cylinder; 0 for revolute joints only.",
+    "more_criteria": "yes to type a criterion of your own in the criterion language (it joins the knowledge base), "
+                     "no to design with the relevant criteria.",
+    "criterion": "A sentence of the criterion language, e.g. 'the swing arm must be adjacent to the ground', "
+                 "'every vertex must have degree at most 3', 'the number of loops that have a slider pair must be at "
+                 "most 1'. Grammar: docs/knowledge.md.",
+    "satisfied": "yes keeps the result as a solved case; no adds criteria and designs again; 'rejected' lists every "
+                 "rejected candidate with its criterion; -ID declares a criterion irrelevant (+ID relevant) and "
+                 "designs again.",
+    "relation": "same ID: the problem is that solved case (its result is shown); similar ID: its structure is taken "
+                "over and only the attributes and criteria differ; different: a new problem of this class.",
+    "scene": "A scene gives the links their roles stage by stage (ground, swing arm, ...), by the rules of a design "
+             "(docs/regeneration.md); none labels only the joints (sliders, gear pairs) and has no roles.",
+    "relevance_overrides": "none keeps the relevant criteria as listed; ID or +ID declares a criterion relevant, "
+                           "-ID irrelevant (several, separated by spaces).",
+    "verify": "none, or a kept candidate, a dimensioned mechanism file of it and a check: 'rotatability' or 'range "
+              "OUTPUT FROM:TO', e.g. 2 mechanisms/suzuki-rm250x.json range slide:g -10:10.",
+}
+
+
+def names_help(known: list[str]) -> str:
+    """The help of the names question, with the names the knowledge base's criteria and the scenes know."""
+    return ("Representative attributes: the special links and loops of the problem (roles such as ground, piston, "
+            "swing arm), comma separated. Criteria about a name apply to problems that have it; a scene gives "
+            "the links their roles. Names the criteria and scenes know: " + (", ".join(known) or "none") + ".")
+
+
 STATIC = {
-    "class": Question("class", "Problem class (e.g. motorcycle rear suspension)", parse_class),
-    "outputs": Question("outputs", "Number of output motions", parse_int_range(1, 8), "1"),
-    "dof": Question("dof", "Degrees of freedom W", parse_int_range(1, 6), "1"),
-    "space": Question("space", "Mechanism type: planar or spatial", parse_space, "planar"),
-    "loops": Question("loops", "Independent loops L", parse_int_range(1, 5)),
-    "gear_pairs": Question("gear_pairs", "Gear pairs j_G", parse_int_range(0, 4), "0"),
-    "slider_pairs": Question("slider_pairs", "Slider (prismatic) pairs", parse_int_range(0, 6), "0"),
-    "names": Question("names", "Representative attributes and special links, comma separated (or none)", parse_names, "none"),
-    "more_criteria": Question("more_criteria", "Specify additional screening criteria? (yes/no)", parse_yes_no, "no"),
-    "criterion": Question("criterion", "Criterion (e.g. the swing arm must be adjacent to the ground)", parse_criterion_text),
-    "satisfied": Question("satisfied", "Is the result satisfactory? (yes/no; 'rejected' lists the rejected candidates)", parse_yes_no, "yes"),
+    "class": Question("class", "Problem class (e.g. motorcycle rear suspension)", parse_class, help=HELP["class"]),
+    "outputs": Question("outputs", "Number of output motions", parse_int_range(1, 8), "1", HELP["outputs"]),
+    "dof": Question("dof", "Degrees of freedom W", parse_int_range(1, 6), "1", HELP["dof"]),
+    "space": Question("space", "Mechanism type: planar or spatial", parse_space, "planar", HELP["space"]),
+    "loops": Question("loops", "Independent loops L ('?' explains)", parse_int_range(1, 5), help=HELP["loops"]),
+    "gear_pairs": Question("gear_pairs", "Gear pairs j_G", parse_int_range(0, 4), "0", HELP["gear_pairs"]),
+    "slider_pairs": Question("slider_pairs", "Slider (prismatic) pairs", parse_int_range(0, 6), "0", HELP["slider_pairs"]),
+    "more_criteria": Question("more_criteria", "Specify additional screening criteria? (yes/no)", parse_yes_no, "no",
+                              HELP["more_criteria"]),
+    "criterion": Question("criterion", "Criterion (e.g. the swing arm must be adjacent to the ground)", parse_criterion_text,
+                          help=HELP["criterion"]),
 }
 
 

@@ -34,7 +34,7 @@ from dataclasses import dataclass
 from domes.errors import DomesError, InputError
 from domes.io.scenes import load_scene
 from domes.knowledge.problems import ProblemFrame
-from domes.knowledge.relevance import RelevanceVector
+from domes.knowledge.relevance import RelevanceVector, relevance_vector
 from domes.knowledge.screening import screen
 from domes.language.explain import explain
 from domes.model.labelled import LabelledChain
@@ -67,6 +67,8 @@ class DesignRun(Result):
     applied: tuple[str, ...]
     emptied_by: str | None
     notes: tuple[str, ...]
+    #: When every candidate is eliminated: (criterion, candidates kept without it), most first.
+    relax: tuple[tuple[str, int], ...] = ()
 
     @property
     def status(self) -> Status:
@@ -111,7 +113,8 @@ def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None,
         raise InputError("the chain atlas is planar: spatial (λ = 6) problems get their numbers but no chains")
     generated = candidates_for(problem, numbers.links, numbers.joints, generator, progress)
     records = [{"id": i, **extra, **chain.to_dict()} for i, (chain, extra) in enumerate(generated, 1)]
-    result = screen([chain for chain, _ in generated], criteria, problem, relevance=relevance, progress=progress)
+    graphs = [chain for chain, _ in generated]
+    result = screen(graphs, criteria, problem, relevance=relevance, progress=progress)
     by_id = {c.id: c for c in criteria}
     rejected = tuple(
         {
@@ -123,10 +126,39 @@ def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None,
         for r in result.rejections
     )
     solved = dataclasses.replace(problem, links=numbers.links, joints=numbers.joints)
+    relax = () if result.kept else _relaxations(graphs, [by_id[i] for i in result.applied + result.skipped],
+                                                problem, relevance)
     return DesignRun(
         solved, numbers.links, numbers.joints, tuple(records), tuple(records[i] for i in result.kept_indices),
-        rejected, result.applied, result.emptied_by, (),
+        rejected, result.applied, result.emptied_by, (), relax,
     )
+
+
+def _relaxations(graphs, criteria, problem, relevance) -> tuple[tuple[str, int], ...]:
+    """For each criterion that was applied, how many candidates every other one would keep (those > 0, most first)."""
+    if not graphs:
+        return ()
+    found = []
+    for criterion in criteria:
+        others = [c for c in criteria if c.id != criterion.id]
+        kept = len(screen(graphs, others, problem, relevance=relevance).kept)
+        if kept:
+            found.append((criterion.id, kept))
+    return tuple(sorted(found, key=lambda item: -item[1]))
+
+
+def scene_roles(problem: ProblemFrame) -> tuple[str, ...]:
+    """The roles the candidates of ``problem`` can carry: its scene's, or none without a scene."""
+    return tuple(load_scene(problem.scene).roles) if problem.scene else ()
+
+
+def outcome_text(run: DesignRun) -> str:
+    """One line: how many candidates were kept, or which criterion emptied the set."""
+    if run.kept:
+        return f"{len(run.kept)} of {len(run.candidates)} candidates kept"
+    if not run.candidates:
+        return "no candidate could be generated"
+    return f"all {len(run.candidates)} candidates eliminated, the last ones by criterion {run.emptied_by!r}"
 
 
 def design(
@@ -142,11 +174,15 @@ def design(
     ``criteria`` are the knowledge base's frames; ``relevance`` the problem's
     vector (None: each criterion's own relevance condition decides). When
     everything is eliminated and ``vary`` is set, the variations of
-    :data:`VARIATIONS` are tried, up to ``max_links`` links (the knob).
+    :data:`VARIATIONS` are tried, up to ``max_links`` links (the knob). Without
+    a vector, a criterion about roles no candidate can carry (none without a
+    scene) is not relevant (:func:`~domes.knowledge.relevance.relevance_vector`).
     """
     for key in ("dof", "loops"):
         if getattr(problem, key) is None:
             raise InputError(f"the problem does not state its {key}: a design needs DOF and independent loops")
+    if relevance is None:
+        relevance = relevance_vector(criteria, problem, scene_roles(problem))
     generator = ChainGenerator(progress=progress)
     first = run = _attempt(problem, criteria, relevance, generator, progress)
     notes = []
@@ -173,6 +209,8 @@ def design(
         except DomesError as exc:
             notes.append(f"{varied.loops} loops and {varied.gear_pairs} gear pairs: {exc}")
             continue
+        notes.append(f"{varied.loops} loops and {varied.gear_pairs} gear pairs ({run.links} links, "
+                     f"{run.joints} joints): {outcome_text(run)}")
         if run.kept:
             break
     else:

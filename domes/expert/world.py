@@ -17,10 +17,12 @@ from domes.design.verify import verify as verify_mechanism
 from domes.errors import DomesError
 from domes.expert.facts import STRUCTURAL, Phase, Relation
 from domes.expert.reasoner import recognise
-from domes.expert.run import DesignRun, design
+from domes.expert.run import DesignRun, design, scene_roles
+from domes.io.scenes import load_scene, scene_names
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
-from domes.knowledge.relevance import relevance_vector
+from domes.knowledge.relevance import is_relevant, relevance_vector, unavailable_names
+from domes.language.tree import names_used
 from domes.store.casebase import KnowledgeBase
 from domes.typesynth.number import number_synthesis
 
@@ -59,6 +61,16 @@ class World:
         with self.kb() as kb:
             return kb.frames()
 
+    def known_names(self) -> list[str]:
+        """The role and loop names the knowledge base's criteria and the shipped scenes talk about."""
+        names: set[str] = set()
+        for frame in self.criteria():
+            roles, loops = names_used(frame.tree)
+            names |= set(roles) | set(loops)
+        for scene in scene_names():
+            names |= set(load_scene(scene).roles)
+        return sorted(n.replace("_", " ") for n in names)
+
     def structure_of(self, case_id: str) -> dict:
         case = self.case(case_id)
         self.say(f"Taking over the structure of {case_id}: " + ", ".join(f"{k} {getattr(case, k)}" for k in STRUCTURAL))
@@ -94,7 +106,11 @@ class World:
                 engine.ask("verify")
         elif question == "satisfied":
             self._leave_phase(engine, "review")
-            engine.declare(Phase(name="retain" if value else "criteria"))
+            if isinstance(value, list):  # criteria relaxed (-ID) or added back (+ID): design again
+                self.relax(engine, value)
+                engine.declare(Phase(name="run"))
+            else:
+                engine.declare(Phase(name="retain" if value else "criteria"))
         else:
             engine.set_attr(question, value)
 
@@ -143,7 +159,9 @@ class World:
 
     def build_relevance(self, engine) -> None:
         frames = self.criteria()
-        vector = relevance_vector(frames, self.problem(engine))
+        problem = self.problem(engine)
+        roles = scene_roles(problem)
+        vector = relevance_vector(frames, problem, roles)
         engine.set_attr("relevance_default", vector)
         off = [f for f, bit in zip(frames, vector.bits) if not bit]
         on = [f.id for f, bit in zip(frames, vector.bits) if bit]
@@ -151,7 +169,10 @@ class World:
         if off:
             self.say("Irrelevant by default (you may declare them relevant with +ID, or others irrelevant with -ID):")
             for f in off:
-                self.say(f"  {f.id}: {f.explanation}")
+                missing = unavailable_names(f, roles) if is_relevant(f.relevance, problem) else ()
+                why = (f" [not applicable: no link or loop is given the role {', '.join(missing)}"
+                       + (f" by the scene {problem.scene}]" if problem.scene else " without a scene]")) if missing else ""
+                self.say(f"  {f.id}: {f.explanation}{why}")
 
     @staticmethod
     def criterion_id(text: str) -> str:
@@ -174,16 +195,18 @@ class World:
                 self.say(f"Criterion {frame.id} is already in the knowledge base.")
         self.added.append(frame.id)
         vector = engine.attr("relevance")
-        engine.set_attr("relevance", vector.aligned(list(vector.ids) + [frame.id]).set(frame.id, 1))
+        ids = list(vector.ids) + ([frame.id] if frame.id not in vector.ids else [])
+        engine.set_attr("relevance", vector.aligned(ids).set(frame.id, 1))
 
     def run(self, engine) -> None:
         problem = self.problem(engine)
         self.say(f"Designing: {problem.links} links, {problem.joints} joints, DOF {problem.dof}"
                  + (f", scene {problem.scene}" if problem.scene else "") + " ...")
-        self.run_result = design(problem, self.criteria(), problem.relevance, vary=self.vary)
+        criteria = self.criteria()
+        self.run_result = design(problem, criteria, problem.relevance, vary=self.vary)
         for note in self.run_result.notes:
             self.say(note)
-        self.say(result_text(self.run_result))
+        self.say(result_text(self.run_result, criteria))
 
     def verify(self, candidate: int, mech, check, path: str) -> None:
         """Run a dimensional check on a kept candidate; the result joins the design's notes."""
@@ -200,8 +223,19 @@ class World:
         self.say(f"The same problem as {case_id}, solved before: its result, from the case base.")
         self.say(frame_text(frame))
 
+    def relax(self, engine, overrides) -> None:
+        """The designer relaxes (``-ID``) or adds back (``+ID``) criteria after a run: design again."""
+        vector = engine.attr("relevance")
+        for criterion_id, bit in overrides:
+            vector = vector.set(criterion_id, bit)
+        engine.set_attr("relevance", vector)
+        self.say("Designing again with " + ", ".join(f"{c} {'relevant' if b else 'irrelevant'}" for c, b in overrides) + ".")
+
     def retain(self, engine) -> None:
         run = self.run_result
+        if not run.kept:
+            self.say("Nothing was kept, so the problem is not retained as a solved case.")
+            return
         relation, case = self.relation
         vector = engine.attr("relevance")
         if relation == "similar" and case:
@@ -233,8 +267,14 @@ def _roles(candidate: dict) -> str:
     return " ".join(parts + special)
 
 
-def result_text(run: DesignRun) -> str:
-    """The candidates kept, and how many each criterion removed."""
+def result_text(run: DesignRun, criteria=()) -> str:
+    """The candidates kept, how many each criterion removed (in the designer's words), and, when every
+    candidate was eliminated, which criterion to relax."""
+    words = {c.id: c.explanation for c in criteria}
+
+    def named(criterion_id: str) -> str:
+        return f"{criterion_id} ({words[criterion_id]})" if words.get(criterion_id) else criterion_id
+
     lines = [f"{len(run.kept)} of {len(run.candidates)} candidates kept ({run.links} links, {run.joints} joints)."]
     for c in run.kept:
         flag = "  EXISTING" if c.get("existing") else ""
@@ -243,9 +283,15 @@ def result_text(run: DesignRun) -> str:
     for r in run.rejected:
         removed[r["criterion"]] = removed.get(r["criterion"], 0) + 1
     for criterion, count in removed.items():
-        lines.append(f"  {count} removed by {criterion}")
+        lines.append(f"  {count} removed by {named(criterion)}")
     if run.emptied_by:
         lines.append(f"  every candidate was eliminated; {run.emptied_by} removed the last ones")
+    if run.relax:
+        best = ", ".join(f"without {named(c)} {k} would be kept" for c, k in run.relax[:3])
+        lines.append(f"  to keep candidates, relax a criterion: {best}; answer -{run.relax[0][0]} to the question "
+                     "whether the result is satisfactory, to design again without it")
+    elif not run.kept and run.candidates:
+        lines.append("  no single criterion left out would keep a candidate: change the loops, sliders or gear pairs")
     return "\n".join(lines)
 
 

@@ -26,7 +26,18 @@ from typing import Iterable, Mapping
 
 from domes.errors import InputError
 from domes.language.parse import normalise_name
-from domes.language.tree import PROBLEM_ATTRIBUTES, AllOf, Always, AnyOf, Attribute, ClassIs, HasName, NoneOf, Relevance
+from domes.language.tree import (
+    PROBLEM_ATTRIBUTES,
+    AllOf,
+    Always,
+    AnyOf,
+    Attribute,
+    ClassIs,
+    HasName,
+    NoneOf,
+    Relevance,
+    names_used,
+)
 
 
 @dataclass(frozen=True)
@@ -148,14 +159,41 @@ class RelevanceVector:
         return RelevanceVector(ids, tuple(a.get(i, 0) | b.get(i, 0) for i in ids))
 
 
-def relevance_vector(frames, problem) -> RelevanceVector:
+def unavailable_names(frame, roles: Iterable[str] | None) -> tuple[str, ...]:
+    """The role and loop names ``frame``'s criterion talks about that no candidate can carry.
+
+    ``roles`` are the names the candidates' links and loops can be given (a
+    scene's roles; nothing without a scene); None means any.
+
+    >>> from domes.knowledge.frames import CriterionFrame
+    >>> unavailable_names(CriterionFrame.create("g", "the number of vertices representing “ground” must be equal to 1"), [])
+    ('ground',)
+    """
+    if roles is None:
+        return ()
+    given = {normalise_name(r) for r in roles}
+    used_roles, used_loops = names_used(frame.tree)
+    return tuple(n for n in sorted(set(used_roles) | set(used_loops)) if n not in given)
+
+
+def relevance_vector(frames, problem, roles: Iterable[str] | None = None) -> RelevanceVector:
     """The relevance vector of a problem over criterion frames (in knowledge-base order).
+
+    A criterion is relevant when its relevance condition holds for the
+    problem and, when ``roles`` is given (the role and loop names the
+    candidates can carry: a scene's roles, or none without a scene), every
+    name it talks about can be carried: a criterion about the ground of a
+    problem whose candidates have no ground would reject them all, or none,
+    without meaning anything.
 
     >>> from domes.knowledge.frames import CriterionFrame
     >>> frames = [CriterionFrame.create("c1", "every vertex must have degree at most 3"),
     ...           CriterionFrame.create("c2", "the vertex representing “piston” must have type (P R)")]
     >>> relevance_vector(frames, Problem(dof=1)).bits
     (1, 0)
+    >>> relevance_vector(frames, Problem(dof=1, names=frozenset({"piston"})), roles=[]).bits
+    (1, 0)
     """
     frames = list(frames)
-    return RelevanceVector(tuple(f.id for f in frames), tuple(int(is_relevant(f.relevance, problem)) for f in frames))
+    bits = tuple(int(is_relevant(f.relevance, problem) and not unavailable_names(f, roles)) for f in frames)
+    return RelevanceVector(tuple(f.id for f in frames), bits)
