@@ -18,11 +18,16 @@ from domes.io.topology import read_topology
 from domes.language.evaluate import compile_criterion
 from domes.language.parse import normalise_name, parse_criterion
 from domes.language.tree import names_used
+from domes.model.chain import Chain
 from domes.model.labelled import JOINT_TYPES
 from domes.model.mobility import chain_joints
-from domes.typesynth.scene import SELECTIONS, Particularization, Scene, Stage, impossible_degree
+from domes.typesynth.atlas import ChainGenerator
+from domes.typesynth.scene import SELECTIONS, Degrees, Particularization, Scene, Stage, impossible_degree
 
 _STAGE_KEYS = {"name", "role", "select", "rules", "note"}
+_CHAINS_KEYS = {"links", "dof", "include_fractionated"}
+#: Up to this many links the degrees that occur are read off the atlas itself.
+DEGREES_FROM_ATLAS = 10
 _TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book"}
 
 
@@ -51,13 +56,23 @@ def parse_scene(src: TomlSource) -> Scene:
     chains = data.get("chains")
     if not isinstance(chains, dict) or "links" not in chains or "dof" not in chains:
         raise src.error("a scene needs a [chains] table with links and dof", src.line_of("chains"))
+    for key in chains:
+        if key not in _CHAINS_KEYS:
+            raise src.error(f"[chains]: unknown key {key!r}; [chains] has {', '.join(sorted(_CHAINS_KEYS))}",
+                            src.line_of(key))
     links, dof = chains["links"], chains["dof"]
-    if not isinstance(links, int) or not isinstance(dof, int):
-        raise src.error("[chains] links and dof must be integers", src.line_of("links"))
+    for key, value in (("links", links), ("dof", dof)):
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise src.error(f"[chains] links and dof must be whole numbers, got {key} = {value!r}", src.line_of(key))
+    fractionated = chains.get("include_fractionated", False)
+    if not isinstance(fractionated, bool):
+        raise src.error(f"[chains] include_fractionated must be true or false, got {fractionated!r}",
+                        src.line_of("include_fractionated"))
     try:
         chain_joints(links, dof)
     except DomesError as exc:
         raise src.error(str(exc), src.line_of("links")) from None
+    degrees = link_degrees(links, dof, fractionated)
 
     raw_stages = data.get("stages", [])
     if not isinstance(raw_stages, list) or not raw_stages:
@@ -66,7 +81,7 @@ def parse_scene(src: TomlSource) -> Scene:
     for i, raw in enumerate(raw_stages):
         if isinstance(raw, dict) and isinstance(raw.get("role"), str):
             given_at.setdefault(normalise_name(raw["role"]), i)
-    stages = tuple(_parse_stage(src, i, raw, given_at, links) for i, raw in enumerate(raw_stages))
+    stages = tuple(_parse_stage(src, i, raw, given_at, degrees) for i, raw in enumerate(raw_stages))
 
     roles = {s.role for s in stages if not s.is_screen}
     particular = []
@@ -107,7 +122,7 @@ def parse_scene(src: TomlSource) -> Scene:
         path=src.path,
         links=links,
         dof=dof,
-        include_fractionated=bool(chains.get("include_fractionated", False)),
+        include_fractionated=fractionated,
         stages=stages,
         particularize=tuple(particular),
         existing=tuple(existing),
@@ -116,7 +131,28 @@ def parse_scene(src: TomlSource) -> Scene:
     )
 
 
-def _parse_stage(src: TomlSource, i: int, raw: object, given_at: dict[str, int], links: int) -> Stage:
+def link_degrees(links: int, dof: int, fractionated: bool) -> Degrees:
+    """The numbers of joints the links of the scene's chains have, and what to call that range.
+
+    Read off the atlas itself up to :data:`DEGREES_FROM_ATLAS` links (a tenth of a second); beyond, the
+    bound of Table 3-1: at most L + 1 joints on a link of a chain without a cut link, 2L with one.
+    """
+    loops = chain_joints(links, dof) - links + 1
+    if links <= DEGREES_FROM_ATLAS:
+        found = {d for n, edges in ChainGenerator().chains(links, dof, fractionated) for d in Chain(n, edges).degrees}
+        if found:
+            return Degrees(frozenset(found), f"every link of the {links}-link chains of DOF {dof} has "
+                           f"{_joints_text(found)} joints")
+    top = 2 * loops if fractionated else loops + 1
+    return Degrees(frozenset(range(2, top + 1)), f"a link of a {links}-link chain with {loops} loops has 2 to {top} joints")
+
+
+def _joints_text(degrees) -> str:
+    d = sorted(degrees)
+    return str(d[0]) if len(d) == 1 else f"{d[0]} to {d[-1]}" if d == list(range(d[0], d[-1] + 1)) else ", ".join(map(str, d))
+
+
+def _parse_stage(src: TomlSource, i: int, raw: object, given_at: dict[str, int], degrees: Degrees) -> Stage:
     line = src.table_line("stages", i)
     if not isinstance(raw, dict):
         raise src.error(f"stage {i + 1} must be a table", line)
@@ -158,10 +194,14 @@ def _parse_stage(src: TomlSource, i: int, raw: object, given_at: dict[str, int],
                     f"stage {i + 1}: rule {text!r} cannot hold yet: role {used!r} is given out only at stage {given_at[used] + 1}",
                     at,
                 )
-        why = impossible_degree(tree, links)
+        why = impossible_degree([tree], degrees)
         if why:
             raise src.error(f"stage {i + 1}: rule {text!r} cannot hold: {why}", at)
         trees.append(tree)
+    why = impossible_degree(trees, degrees)
+    if why:  # each rule alone can hold, together they cannot
+        raise src.error(f"stage {i + 1}: rules {' and '.join(repr(t) for t in texts)} cannot hold together: {why}",
+                        src.line_of(texts[0], line) or line)
     name = str(raw.get("name", role or f"screen {i + 1}"))
     return Stage(name, role, select, tuple(trees), tuple(texts), tuple(compile_criterion(t) for t in trees), line)
 

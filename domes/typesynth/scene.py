@@ -21,7 +21,7 @@ Scenes are read from files by :mod:`domes.io.scenes`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable
+from typing import Callable, Iterable
 
 from domes.language.tree import And, Criterion, ForAll, JointCount, Not
 from domes.model.labelled import LabelledChain
@@ -77,17 +77,39 @@ class Scene:
         return [s.role for s in self.stages if not s.is_screen]
 
 
-def impossible_degree(tree: Criterion, links: int) -> str | None:
-    """Why a rule's joint-count tests on its links can never all hold on ``links``-link chains."""
-    if not isinstance(tree, ForAll) or tree.domain.kind != "vertex":
-        return None
-    terms = list(tree.condition.items) if isinstance(tree.condition, And) else [tree.condition]
-    allowed = set(range(2, links))
-    for term in terms:
-        negated = isinstance(term, Not)
-        inner = term.item if negated else term
-        if isinstance(inner, JointCount) and inner.joint is None:
-            allowed &= {d for d in range(2, links) if inner.comparison(d) != negated}
-    if not allowed:
-        return f"no link of a {links}-link chain has such a number of joints (every link has 2 to {links - 1})"
+@dataclass(frozen=True)
+class Degrees:
+    """The numbers of joints the links of a scene's chains can have, and a sentence that says so."""
+
+    values: frozenset[int]
+    text: str
+
+
+def impossible_degree(trees: Iterable[Criterion], degrees: Degrees) -> str | None:
+    """Why the joint-count tests that rules put on the same links can never all hold, or None.
+
+    Rules over the same vertices (every vertex, or the vertices of one role)
+    must allow some number of joints that the scene's chains have.
+
+    >>> from domes.language.parse import parse_criterion
+    >>> six_bar = Degrees(frozenset({2, 3}), "every link of the 6-link chains has 2 to 3 joints")
+    >>> impossible_degree([parse_criterion("the ground must be quinary")], six_bar)
+    'no link can have such a number of joints (every link of the 6-link chains has 2 to 3 joints)'
+    >>> rules = [parse_criterion(t) for t in ("the ground must be binary", "the ground must be ternary")]
+    >>> impossible_degree(rules[:1], six_bar) is None, impossible_degree(rules, six_bar) is not None
+    (True, True)
+    """
+    allowed: dict[str | None, set[int]] = {}
+    for tree in trees:
+        if not isinstance(tree, ForAll) or tree.domain.kind != "vertex":
+            continue
+        terms = list(tree.condition.items) if isinstance(tree.condition, And) else [tree.condition]
+        keep = allowed.setdefault(tree.domain.name, set(degrees.values))
+        for term in terms:
+            negated = isinstance(term, Not)
+            inner = term.item if negated else term
+            if isinstance(inner, JointCount) and inner.joint is None:
+                keep &= {d for d in degrees.values if inner.comparison(d) != negated}
+    if any(not keep for keep in allowed.values()):
+        return f"no link can have such a number of joints ({degrees.text})"
     return None

@@ -31,13 +31,20 @@ SWING = 'rules = ["the swing arm must not be the ground and must not represent a
     [
         (SWING, 'rules = ["the swing arm must not represent a shock absorbr"]', "unknown role 'shock_absorbr'"),
         (RULE, 'rules = ["the shock absorber must not be the swing arm"]', "cannot hold yet: role 'swing_arm' is given out only at stage 3"),
-        (RULE, 'rules = ["the shock absorber must be binary and be ternary"]', "cannot hold: no link of a 6-link chain"),
+        (RULE, 'rules = ["the shock absorber must be binary and be ternary"]', "cannot hold: no link can have such a number of joints (every link of the 6-link chains of DOF 1 has 2 to 3 joints)"),
         (RULE, 'rules = ["the shock absorber must have degree 9"]', "cannot hold"),
         (RULE, 'rules = ["the shock absorber must be binary or"]', "column"),
         ('select = "adjacent pair"', 'select = "triple"', "select must be one of"),
         ('rules = ["the swing arm must be adjacent to the ground"]', 'rules = ["the swingarm must be adjacent to the ground"]', "unknown role 'swingarm'"),
         ('joint = "P"', 'joint = "Q"', "unknown joint type 'Q'"),
         ('role = "swing arm"', 'rolle = "swing arm"', "unknown key 'rolle'"),
+        # issue 11: the rules a six-bar can never meet, and the keys of [chains], are checked when the file is read
+        (RULE, 'rules = ["the shock absorber must be quinary"]', "(every link of the 6-link chains of DOF 1 has 2 to 3 joints)"),
+        (RULE, 'rules = ["the shock absorber must be binary", "the shock absorber must be ternary"]',
+         "cannot hold together: no link can have such a number of joints"),
+        ("dof = 1", "include_fractionatd = true\ndof = 1", "[chains]: unknown key 'include_fractionatd'"),
+        ("dof = 1", 'include_fractionated = "no"\ndof = 1', "include_fractionated must be true or false, got 'no'"),
+        ("dof = 1", "dof = true", "links and dof must be whole numbers"),
     ],
 )
 def test_semantic_errors(tmp_path, old, new, problem):
