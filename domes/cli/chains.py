@@ -22,9 +22,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "chains",
         help="every non-isomorphic, non-degenerate chain with N links and DOF F",
-        description="The unlabelled graph generator: every non-isomorphic planar chain of simple "
-        "revolute joints with the given links and DOF, with no rigid or over-constrained proper "
-        "sub-chain. DOF 0 gives the basic chains of Table 3-4 (with K).",
+        description="The unlabelled graph generator: every non-isomorphic kinematic chain of planar motion "
+        "with simple revolute joints, the given links and DOF, and no rigid or over-constrained proper "
+        "sub-chain. DOF 0 gives the basic chains of Table 3-4 (with K). A chain whose graph is not planar "
+        "(it cannot be drawn without crossings; 11 of the 230 ten-bar chains) is marked 'non-planar graph'.",
     )
     size = p.add_mutually_exclusive_group(required=True)
     size.add_argument("--links", "-n", type=int, help="number of links n")
@@ -79,7 +80,8 @@ def _confirm_large(links: int, dof: int, include_fractionated: bool) -> None:
 def _text_line(index: int, chain: Chain) -> str:
     assortment = " ".join(f"{d}^{k}" for d, k in chain.assortment.items())
     joints = " ".join(f"{u}-{v}" for u, v in chain.edges)
-    return f"{index:5d}  [{assortment}]  |Aut|={chain.automorphisms.order:<3d} {chain.dof_type:<12s} {joints}"
+    mark = "" if chain.graph_planar else "  non-planar graph"
+    return f"{index:5d}  [{assortment}]  |Aut|={chain.automorphisms.order:<3d} {chain.dof_type:<12s} {joints}{mark}"
 
 
 def run_chains(args: argparse.Namespace) -> int:

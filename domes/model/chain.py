@@ -37,7 +37,10 @@ class Branch:
 
 @dataclass(frozen=True, eq=False)
 class Chain:
-    """A planar chain of simple revolute joints: links ``0..n−1``, joints as link pairs.
+    """A kinematic chain of planar motion with simple revolute joints: links ``0..n−1``, joints as link pairs.
+
+    *Planar* is the motion (λ = 3), not the graph: some chains' graphs are not
+    planar (11 of the 230 one-DOF ten-bar chains, :attr:`graph_planar`).
 
     Equality and hashing are by isomorphism class (nauty certificate).
     """
@@ -193,6 +196,11 @@ class Chain:
         return sorted(nx.articulation_points(self.to_networkx()))
 
     @cached_property
+    def graph_planar(self) -> bool:
+        """Whether the chain's graph can be drawn without crossings (its links move in a plane either way)."""
+        return bool(nx.check_planarity(self.to_networkx())[0])
+
+    @cached_property
     def rigid_subchain(self) -> list[int] | None:
         """The smallest proper sub-chain of 3+ links with ``3(|S|−1) − 2e(S) ≤ 0``, if any."""
         return rigid_subchain(self.n, self.edges)
@@ -290,6 +298,7 @@ class Chain:
             "automorphism_group_order": self.automorphisms.order,
             "link_orbits": self.link_orbits,
             "cut_links": self.cut_links,
+            "graph_planar": self.graph_planar,
             "degenerate": self.is_degenerate,
             "rigid_subchain": self.rigid_subchain,
         }

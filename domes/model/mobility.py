@@ -50,12 +50,12 @@ def chain_joints(links: int, dof: int, space: int = PLANAR) -> int:
     >>> chain_joints(5, 1)
     Traceback (most recent call last):
     ...
-    domes.errors.InputError: no planar chain of simple revolute joints has 5 links and DOF 1: the joint count (3(n-1) - F)/2 = 11/2 is not an integer; try 4 or 6 links
+    domes.errors.InputError: no chain of planar motion with simple revolute joints has 5 links and DOF 1: the joint count (3(n-1) - F)/2 = 11/2 is not an integer; try 4 or 6 links
     """
     check_count("links", links, 1)
     check_count("dof", dof, 0)
     twice = space * (links - 1) - dof
-    kind = "planar chain of simple revolute joints" if space == PLANAR else "spatial chain of one-freedom joints"
+    kind = "chain of planar motion with simple revolute joints" if space == PLANAR else "spatial chain of one-freedom joints"
     if twice % (space - 1):
         raise InputError(
             f"no {kind} has {links} links and DOF {dof}: "

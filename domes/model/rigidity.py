@@ -1,6 +1,6 @@
 """Mobility of sub-chains: degenerate (rigid) sub-chains and ear slack.
 
-For a set ``S`` of links of a planar chain of simple revolute joints, the
+For a set ``S`` of links of a chain of planar motion with simple revolute joints, the
 sub-chain DOF is ``F(S) = 3(|S| − 1) − 2·e(S)`` where ``e(S)`` counts the
 joints between links of ``S`` (Grübler). A chain is *degenerate* when a
 proper subset of three or more links has ``F(S) ≤ 0``: it contains a rigid

@@ -1,6 +1,6 @@
 """The unlabelled graph generator: every non-isomorphic, non-degenerate chain.
 
-A *chain* here is a planar kinematic chain of simple revolute joints: a
+A *chain* here is a kinematic chain of planar motion with simple revolute joints: a
 connected simple graph (links = vertices, joints = edges), every link with
 at least two joints, no proper sub-chain of three or more links rigid or
 over-constrained (``3(|S| − 1) − 2e(S) ≤ 0``). Its DOF is
@@ -243,7 +243,7 @@ class Atlas(Listing):
 
 def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism: str = "nauty",
            progress: Progress | None = None, generator: ChainGenerator | None = None) -> Atlas:
-    """Every non-isomorphic, non-degenerate planar chain of revolute joints.
+    """Every non-isomorphic, non-degenerate chain of planar motion with revolute joints (some graphs non-planar).
 
     Chains with a cut link (fractionated) are left out unless
     ``include_fractionated``. Returns an :class:`Atlas`: the

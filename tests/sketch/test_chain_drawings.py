@@ -43,6 +43,17 @@ def test_eight_bar_chains_drawn_without_crossings(chain):
     _check_planar_drawing(chain)
 
 
+def _kuratowski_certificate(chain) -> bool:
+    """The chain's graph holds a subdivided K5 or K3,3 (the certificate of non-planarity, checked by hand)."""
+    _, sub = nx.check_planarity(chain.to_networkx(), counterexample=True)
+    g = nx.Graph(sub)
+    for v in [v for v in g if g.degree(v) == 2]:  # undo the subdivisions
+        a, b = g[v]
+        g.remove_node(v)
+        g.add_edge(a, b)
+    return nx.is_isomorphic(g, nx.complete_graph(5)) or nx.is_isomorphic(g, nx.complete_bipartite_graph(3, 3))
+
+
 def test_ten_bar_chains_drawn_without_crossings():
     # seed 002 §3-2-II: 230 one-DOF ten-bar chains. Planarity from networkx (an
     # independent test): the non-planar ones cannot be drawn without a crossing
@@ -52,8 +63,10 @@ def test_ten_bar_chains_drawn_without_crossings():
     nonplanar = 0
     for chain in atlas:
         if nx.check_planarity(chain.to_networkx())[0]:
+            assert chain.graph_planar
             _check_planar_drawing(chain)
         else:
+            assert not chain.graph_planar and _kuratowski_certificate(chain)
             nonplanar += 1
             layout = skeleton_layout(chain)
             assert not layout.planar and layout.crossing_links
