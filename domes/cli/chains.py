@@ -6,14 +6,16 @@ import argparse
 import json
 import sys
 
-from domes.cli.common import progress_printer
+from domes.cli.common import confirm, progress_printer
 from domes.errors import InputError
 from domes.model.chain import Chain
 from domes.model.mobility import chain_joints
-from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator
+from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator, check_links
 
 #: Atlases from this many links on are very large: ask before building them.
 LARGE_ATLAS_LINKS = 14
+#: Pages of more drawn chains than this are made only when the user agrees (--yes).
+LARGE_PAGE = 1000
 #: Rough growth of an atlas per two more links (measured: 230 -> 6856 one-DOF chains).
 GROWTH_PER_TWO_LINKS = 30
 
@@ -40,7 +42,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="nauty",
         help="duplicate removal: nauty (exact, default) or charpoly (the book's test; merges some chains)",
     )
-    p.add_argument("--yes", "-y", action="store_true", help=f"build atlases of {LARGE_ATLAS_LINKS}+ links without asking")
+    p.add_argument("--yes", "-y", action="store_true",
+                   help=f"build atlases of {LARGE_ATLAS_LINKS}+ links, or draw pages of more than {LARGE_PAGE} chains, without asking")
     progress = p.add_mutually_exclusive_group()
     progress.add_argument("--progress", dest="progress", action="store_true", default=None, help="show progress on stderr")
     progress.add_argument("--no-progress", dest="progress", action="store_false", help="never show progress")
@@ -58,23 +61,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.set_defaults(func=run_chain)
 
 
-def _confirm_large(links: int, dof: int, include_fractionated: bool) -> None:
+def _estimate(links: int, dof: int, include_fractionated: bool) -> tuple[float, int, int]:
+    """Roughly how many chains an atlas has: extrapolated from the largest atlas of 10 links or fewer."""
     base = links
     while base > 10:
         base -= 2
     base_count = len(ChainGenerator().chains(base, dof, include_fractionated)) if base >= 3 else 1
-    estimate = base_count * GROWTH_PER_TWO_LINKS ** ((links - base) // 2)
-    message = (
-        f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {estimate:.1e} chains "
-        f"(extrapolated from {base_count} chains of {base} links, about x{GROWTH_PER_TWO_LINKS} per two links), "
-        "taking a long time and much memory"
-    )
-    if not sys.stdin.isatty():
-        raise InputError(message + "; pass --yes to build it anyway")
-    print(f"domes chains: {message}.", file=sys.stderr)
-    answer = input("Build it? [y/N] ").strip().lower()
-    if answer not in ("y", "yes"):
-        raise InputError("not built (answer was not 'yes')")
+    return base_count * GROWTH_PER_TWO_LINKS ** ((links - base) // 2), base_count, base
+
+
+def _confirm_large(links: int, dof: int, include_fractionated: bool, yes: bool) -> None:
+    estimate, base_count, base = _estimate(links, dof, include_fractionated)
+    confirm("chains", f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {estimate:.1e} chains "
+            f"(extrapolated from {base_count} chains of {base} links, about x{GROWTH_PER_TWO_LINKS} per two links), "
+            "taking a long time and much memory", yes)
 
 
 def _text_line(index: int, chain: Chain) -> str:
@@ -97,8 +97,9 @@ def run_chains(args: argparse.Namespace) -> int:
     loops = joints - links + 1
     if loops < 1:
         raise InputError(f"{links} links with DOF {args.dof} have {joints} joints and no closed loop; use more links")
-    if links >= LARGE_ATLAS_LINKS and not args.yes:
-        _confirm_large(links, args.dof, args.include_fractionated)
+    check_links(links)
+    if links >= LARGE_ATLAS_LINKS:
+        _confirm_large(links, args.dof, args.include_fractionated, args.yes)
     generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress))
     graphs = generator.chains(links, args.dof, args.include_fractionated)
     atlas = [Chain(n, edges) for n, edges in graphs]
@@ -109,7 +110,12 @@ def run_chains(args: argparse.Namespace) -> int:
     if args.format == "html":
         from domes.sketch.atlas import chain_atlas_html
 
-        out.write(chain_atlas_html(atlas, f"{len(atlas)} chains: {links} links, {joints} joints, DOF {args.dof}"))
+        if len(atlas) > LARGE_PAGE:
+            confirm("chains", f"a page of {len(atlas)} drawn chains is large: about {len(atlas) * 6 / 1000:.0f} MB, "
+                    f"drawn in about {len(atlas) * 0.06 / 60:.0f} min", args.yes)
+
+        out.write(chain_atlas_html(atlas, f"{len(atlas)} chains: {links} links, {joints} joints, DOF {args.dof}",
+                                   progress=progress_printer(args.progress)))
     elif args.format == "graph6":
         for chain in atlas:
             out.write(chain.graph6 + "\n")

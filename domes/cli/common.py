@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from domes.errors import InputError
 from domes.io.files import write_atomic
 from domes.results import Progress
 from domes.store.casebase import DB_ENV
@@ -35,6 +36,20 @@ def db_option() -> argparse.ArgumentParser:
     parent = argparse.ArgumentParser(add_help=False)
     parent.add_argument("--db", metavar="URL", help=DB_HELP)
     return parent
+
+
+def confirm(command: str, message: str, yes: bool) -> None:
+    """Go on with a long run only when the user agrees: ``--yes``, or 'yes' typed at a terminal.
+
+    Without a terminal to ask on, the run is refused with the message and the hint to pass ``--yes``.
+    """
+    if yes:
+        return
+    if not sys.stdin.isatty():
+        raise InputError(f"{message}; pass --yes to run it anyway")
+    print(f"domes {command}: {message}.", file=sys.stderr)
+    if input("Go on? [y/N] ").strip().lower() not in ("y", "yes"):
+        raise InputError("not run (the answer was not 'yes')")
 
 
 def write_output(text: str, path: str | None) -> None:

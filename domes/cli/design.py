@@ -80,11 +80,15 @@ def run_design(args: argparse.Namespace) -> int:
 def _design(args: argparse.Namespace, dialogue: Dialogue) -> int:
     try:
         outcome = dialogue.run()
-    except (KeyboardInterrupt, EOFError):
+    except (KeyboardInterrupt, EOFError) as stop:
+        why, status = ("interrupted", 128 + signal.SIGINT) if isinstance(stop, KeyboardInterrupt) else ("end of input", 1)
+        if not dialogue.exchanges:
+            print(f"\ndomes design: {why} before any answer; nothing saved", file=sys.stderr)
+            return status
         save_session(args.state, dialogue.exchanges)
-        print(f"\ndomes design: interrupted; {len(dialogue.exchanges)} answers saved in {args.state} "
+        print(f"\ndomes design: {why}; {len(dialogue.exchanges)} answers saved in {args.state} "
               f"(resume with: domes design --resume {args.state})", file=sys.stderr)
-        return 128 + signal.SIGINT
+        return status
     if args.record:
         write_transcript(args.record, outcome.to_dict())
         print(f"Transcript written to {args.record}.")

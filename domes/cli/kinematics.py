@@ -24,10 +24,11 @@ import json
 import math
 import sys
 
+from domes.cli.common import confirm, progress_printer
 from domes.errors import InputError
 from domes.io.mechanisms import load_mechanism
 from domes.motion.planar.query import PRESETS, Kinematics, accuracy
-from domes.motion.planar.sweep import run_sweep
+from domes.motion.planar.sweep import grid_size, run_sweep
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -54,7 +55,17 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="assur: closed-form dyads and per-group Newton (default); newton: the whole loop-closure model")
     p.add_argument("--input", dest="joint", metavar="JOINT", help="driven joint to sweep (default: the first input)")
     p.add_argument("--angles", choices=("deg", "rad"), default="deg", help="unit of angles in input and output")
+    p.add_argument("--yes", "-y", action="store_true", help=f"sweep more than {LARGE_SWEEP:,} steps without asking")
+    shown = p.add_mutually_exclusive_group()
+    shown.add_argument("--progress", dest="progress", action="store_true", default=None, help="show progress on stderr")
+    shown.add_argument("--no-progress", dest="progress", action="store_false", help="never show progress")
     p.set_defaults(func=run)
+
+
+#: Sweeps of more steps than this run only when the user agrees (--yes).
+LARGE_SWEEP = 100_000
+#: Measured time of one step of a sweep (positions to accelerations, the examples), for the estimate.
+SECONDS_PER_STEP = 0.002
 
 
 def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
@@ -65,6 +76,8 @@ def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
         nums = [float(x) for x in parts]
     except ValueError:
         raise InputError(f"--sweep: {text!r} has a part that is not a number") from None
+    if not all(math.isfinite(x) for x in nums):
+        raise InputError(f"--sweep: {text!r}: START, STOP and STEP must be finite numbers")
     if len(nums) == 3 and nums[2] <= 0:
         raise InputError(f"--sweep: STEP must be > 0, got {parts[2]}")
     return scale(nums[0]), scale(nums[1]), scale(nums[2]) if len(nums) == 3 else None
@@ -81,13 +94,20 @@ def run(args: argparse.Namespace) -> int:
     from_in = math.degrees if angular and deg else float
     if args.sweep:
         start, stop, step = parse_sweep(args.sweep, to_in)
+        unit = to_in(1.0)  # the file's units and degrees, as the user wrote them
+        steps = grid_size(start / unit, stop / unit, (step or (acc.step if angular else acc.step * mech.size)) / unit)
+        if steps > LARGE_SWEEP:
+            confirm("kinematics", f"a sweep of {steps:,} steps takes about {steps * SECONDS_PER_STEP / 60:.0f} min "
+                    f"(about {SECONDS_PER_STEP * 1000:.0f} ms a step)", args.yes)
     else:
+        if args.at is not None and not math.isfinite(args.at):
+            raise InputError(f"--at must be a finite number, got {args.at}")
         q = kin.drawn_inputs()[joint] if joint in kin.drawn_inputs() else None
         if q is None:
             raise InputError(f"--input: {joint!r} is not a driven joint of {mech.name}")
         start = stop = to_in(args.at) if args.at is not None else q
         step = 1.0
-    sw = run_sweep(kin, start, stop, step, joint)
+    sw = run_sweep(kin, start, stop, step, joint, progress=progress_printer(args.progress))
     angle_cols = {c for c in sw.columns if c.startswith("angle:")}
 
     def shown(col, value):

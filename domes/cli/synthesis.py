@@ -5,7 +5,9 @@ from __future__ import annotations
 import argparse
 import json
 
-from domes.typesynth.number import link_assortments, number_synthesis
+from domes.cli.common import confirm
+from domes.errors import InputError
+from domes.typesynth.number import count_link_assortments, link_assortments, number_synthesis
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -20,12 +22,29 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--space", type=int, default=3, choices=(3, 6), help="λ: 3 planar (default), 6 spatial")
     p.add_argument("--gear-pairs", type=int, default=0, help="gear pairs j_G (default 0)")
     p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("--no-assortments", action="store_true", help="only the numbers of links and joints")
+    p.add_argument("--yes", "-y", action="store_true", help=f"list more than {LARGE:,} link assortments without asking")
     p.set_defaults(func=run)
+
+
+#: More link assortments than this are listed only when the user agrees (--yes).
+LARGE = 10_000
+#: More than this cannot be listed at all (the list would not finish).
+HUGE = 10_000_000
 
 
 def run(args: argparse.Namespace) -> int:
     result = number_synthesis(args.dof, args.loops, args.space, args.gear_pairs)
-    assortments = link_assortments(result.links, result.joints) if result.loops >= 1 else []
+    assortments = []
+    if result.loops >= 1 and not args.no_assortments:
+        count = count_link_assortments(result.links, result.joints)
+        if count > HUGE:
+            raise InputError(f"{result.links} links and {result.joints} joints have {count:.3g} link assortments, "
+                             "too many to list; give --no-assortments for the numbers of links and joints")
+        if count > LARGE:
+            confirm("synthesis", f"{result.links} links and {result.joints} joints have {count:,} link assortments",
+                    args.yes)
+        assortments = link_assortments(result.links, result.joints)
     if args.format == "json":
         record = dict(vars(result))
         record["assortments"] = [{str(d): k for d, k in a.counts.items()} for a in assortments]

@@ -92,10 +92,13 @@ class Chain:
         raw = text.strip()
         if raw.startswith(">>graph6<<"):
             raw = raw[len(">>graph6<<") :]
+        if not raw or any(not 63 <= ord(ch) <= 126 for ch in raw):
+            raise InputError(f"{text!r} is not a graph6 string: graph6 uses the characters ? to ~ (ASCII 63-126), "
+                             "e.g. 'ErOg' (the Stephenson chain)")
         try:
             graph = nx.from_graph6_bytes(raw.encode("ascii"))
-        except (ValueError, UnicodeEncodeError, nx.NetworkXError) as exc:
-            raise InputError(f"{text!r} is not a graph6 string: {exc}") from None
+        except (ValueError, IndexError, UnicodeEncodeError, nx.NetworkXError) as exc:
+            raise InputError(f"{text!r} is not a graph6 string: {exc or type(exc).__name__}") from None
         return cls.from_networkx(graph)
 
     def to_networkx(self) -> nx.Graph:

@@ -42,7 +42,7 @@ from domes.model.canon import automorphisms, canonical_form, certificate
 from domes.model.chain import Chain
 from domes.model.charpoly import characteristic_polynomial
 from domes.model.mobility import chain_joints
-from domes.model.rigidity import pair_slack
+from domes.model.rigidity import MAX_LINKS, pair_slack
 from domes.results import Listing, Progress, Status, Ticker
 
 Edge = tuple[int, int]
@@ -83,6 +83,13 @@ def _glue(base: Graph, u: int, block: Graph, c: int, k: int) -> Graph:
     return n0 + nb + k - 1, edges
 
 
+def check_links(links: int) -> None:
+    """Refuse atlases beyond :data:`~domes.model.rigidity.MAX_LINKS` links, which no machine can build."""
+    if links > MAX_LINKS:
+        raise InputError(f"chains of more than {MAX_LINKS} links are out of reach: the atlas grows about 30-fold "
+                         f"per two links (6856 one-DOF chains of 12 links), and {links} links were asked for")
+
+
 @dataclass
 class ChainGenerator:
     """Generates chain atlases and remembers every atlas it has built.
@@ -114,6 +121,7 @@ class ChainGenerator:
     def chains(self, links: int, dof: int, include_fractionated: bool = False) -> list[Graph]:
         """All chains with ``links`` links and DOF ``dof``, canonically labelled and sorted."""
         joints = chain_joints(links, dof)
+        check_links(links)
         loops = joints - links + 1
         if loops < 1:
             raise InputError(f"{links} links with DOF {dof} give {joints} joints: no closed chain (L = {loops})")

@@ -20,7 +20,10 @@ from domes.errors import InputError
 from domes.model.mobility import PLANAR, SPATIAL, chain_joints, chain_loops, check_count, mobility
 from domes.results import Result, Status
 
-__all__ = ["LinkAssortment", "NumberSynthesis", "chain_joints", "chain_loops", "link_assortments", "number_synthesis"]
+__all__ = [
+    "LinkAssortment", "NumberSynthesis", "chain_joints", "chain_loops", "count_link_assortments", "link_assortments",
+    "number_synthesis",
+]
 
 
 @dataclass(frozen=True)
@@ -152,3 +155,29 @@ def link_assortments(links: int, joints: int, max_degree: int | None = None) -> 
     found = [LinkAssortment(dict(sorted(a.counts.items()))) for a in found]
     found.sort(key=lambda a: tuple(-a.counts.get(d, 0) for d in range(2, top + 1)))
     return found
+
+
+def count_link_assortments(links: int, joints: int, max_degree: int | None = None) -> int:
+    """How many assortments :func:`link_assortments` lists, counted without listing them.
+
+    An assortment spreads the excess ``Σ (d − 2)·n_d = 2(j − n)`` over links of
+    3 to ``max_degree`` joints: the partitions of the excess into parts of at
+    most ``max_degree − 2`` (there are always enough links for the parts).
+
+    >>> count_link_assortments(8, 10), len(link_assortments(8, 10))
+    (3, 3)
+    >>> count_link_assortments(801, 1200) > 10**20     # 400 loops: far too many to list
+    True
+    """
+    check_count("links", links, 1)
+    check_count("joints", joints, 0)
+    loops = joints - links + 1
+    if loops < 1:
+        raise InputError(f"{links} links and {joints} joints form no closed loop (L = j - n + 1 = {loops})")
+    top = max(2, loops + 1) if max_degree is None else check_count("max_degree", max_degree, 2)
+    excess = 2 * joints - 2 * links
+    ways = [1] + [0] * excess  # ways[e]: partitions of e into the parts seen so far
+    for part in range(1, top - 1):
+        for e in range(part, excess + 1):
+            ways[e] += ways[e - part]
+    return ways[excess] if excess <= links * (top - 2) else 0

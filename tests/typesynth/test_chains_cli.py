@@ -121,7 +121,7 @@ def test_large_atlas_confirmation_on_a_terminal(monkeypatch, answer, built):
     monkeypatch.setattr(sys.stdin, "isatty", lambda: True)
     monkeypatch.setattr("builtins.input", lambda prompt: answer)
     if built:
-        cli._confirm_large(14, 1, False)  # returns: go ahead
+        cli._confirm_large(14, 1, False, yes=False)  # returns: go ahead
     else:
-        with pytest.raises(DomesError, match="not built"):
-            cli._confirm_large(14, 1, False)
+        with pytest.raises(DomesError, match="not run"):
+            cli._confirm_large(14, 1, False, yes=False)

@@ -249,6 +249,8 @@ class Kinematics:
             if j not in inputs:
                 raise InputError(f"input joint {j!r} needs a value")
             out[v] = float(inputs[j])
+            if not math.isfinite(out[v]):
+                raise InputError(f"input joint {j!r}: the value must be a finite number, got {inputs[j]!r}")
         unknown = set(inputs) - set(self.structure.input_vars)
         if unknown:
             raise InputError(f"{sorted(unknown)} are not driven joints; inputs are {sorted(self.structure.input_vars)}")

@@ -162,10 +162,31 @@ class Continuation:
         return f"{math.degrees(q):.12g}°" if self.angular else f"{q:.12g}"
 
 
-def grid(start: float, stop: float, step: float) -> list[float]:
-    """``start, start ± step, ..., stop`` (the last point is ``stop`` when within 1e-9 of a step)."""
+#: The most steps a sweep takes (a grid of more would not fit in memory, nor finish).
+MAX_STEPS = 10_000_000
+
+
+def grid_size(start: float, stop: float, step: float) -> int:
+    """How many input values :func:`grid` makes; an InputError for values that are not finite or too many.
+
+    >>> grid_size(0.0, 1.0, 0.25)
+    5
+    """
+    for name, value in (("start", start), ("stop", stop), ("step", step)):
+        if not math.isfinite(value):
+            raise InputError(f"sweep {name} must be a finite number, got {value}")
     if step <= 0:
         raise InputError(f"sweep step must be > 0, got {step}")
+    count = int(math.floor(abs(stop - start) / step + 1e-9)) + 1
+    if count > MAX_STEPS:
+        raise InputError(f"a sweep from {start:g} to {stop:g} by {step:g} has {count:.3g} steps, more than "
+                         f"{MAX_STEPS:,}: use a larger step or a shorter range")
+    return count
+
+
+def grid(start: float, stop: float, step: float) -> list[float]:
+    """``start, start ± step, ..., stop`` (the last point is ``stop`` when within 1e-9 of a step)."""
+    grid_size(start, stop, step)
     n = (stop - start) / step
     count = int(math.floor(abs(n) + 1e-9))
     sign = 1.0 if stop >= start else -1.0
