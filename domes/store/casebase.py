@@ -77,11 +77,26 @@ def sqlite_path(url: str) -> Path | None:
     return Path(parsed.database)
 
 
+def shown(url: str) -> str:
+    """A case base URL as messages show it: a password in it is hidden.
+
+    >>> shown("postgresql+psycopg://me:secret@db.example/cases")
+    'postgresql+psycopg://me:***@db.example/cases'
+    >>> shown("sqlite:///x.db")
+    'sqlite:///x.db'
+    """
+    try:
+        parsed = make_url(url)
+    except ArgumentError:
+        return url
+    return url if parsed.password is None else parsed.render_as_string(hide_password=True)
+
+
 def _engine(url: str) -> Engine:
     try:
         return create_engine(url)
     except (ArgumentError, SQLAlchemyError, ImportError) as exc:
-        raise InputError(f"cannot open the case base {url}: {exc}") from None
+        raise InputError(f"cannot open the case base {shown(url)}: {exc}") from None
 
 
 def open_engine(url: str, create: bool = False) -> Engine:
@@ -99,9 +114,9 @@ def open_engine(url: str, create: bool = False) -> Engine:
         tables = set(inspect(engine).get_table_names())
         if SchemaVersion.__tablename__ not in tables:
             if tables:
-                raise InputError(f"{url} is not a DOMES-py case base (it has tables {sorted(tables)} but no schema_version)")
+                raise InputError(f"{shown(url)} is not a DOMES-py case base (it has tables {sorted(tables)} but no schema_version)")
             if not create:
-                raise InputError(f"the case base {url} is empty: build it with `domes kb build` or fill it with `domes kb import`")
+                raise InputError(f"the case base {shown(url)} is empty: build it with `domes kb build` or fill it with `domes kb import`")
             with engine.begin() as conn:
                 Base.metadata.create_all(conn)
                 conn.execute(SchemaVersion.__table__.insert(), [{"component": c, "version": v} for c, v in SCHEMA_VERSIONS.items()])
@@ -110,7 +125,7 @@ def open_engine(url: str, create: bool = False) -> Engine:
             found = {row.component: row.version for row in session.scalars(select(SchemaVersion))}
     except SQLAlchemyError as exc:
         engine.dispose()
-        raise InputError(f"cannot read the case base {url}: {exc}") from None
+        raise InputError(f"cannot read the case base {shown(url)}: {exc}") from None
     except DomesError:
         engine.dispose()
         raise
@@ -119,7 +134,7 @@ def open_engine(url: str, create: bool = False) -> Engine:
             engine.dispose()
             have = "no" if component not in found else f"version {found[component]} of the"
             raise InputError(
-                f"the case base {url} has {have} '{component}' schema; this DOMES-py reads version {version}: "
+                f"the case base {shown(url)} has {have} '{component}' schema; this DOMES-py reads version {version}: "
                 "rebuild it with `domes kb build` (first export your own criteria with the DOMES-py that made it)"
             )
     return engine
@@ -150,7 +165,7 @@ class KnowledgeBase:
             reason = str(getattr(exc, "orig", None) or exc).splitlines()[0]
             hint = ("the embedded case base is read-only: open it with write=True to change your own copy, "
                     "or give --db / DOMES_DB") if "readonly" in reason else "nothing was changed"
-            raise InputError(f"cannot change the case base {self.url}: {reason}; {hint}") from None
+            raise InputError(f"cannot change the case base {shown(self.url)}: {reason}; {hint}") from None
 
     def __enter__(self) -> "KnowledgeBase":
         return self
@@ -261,17 +276,31 @@ class KnowledgeBase:
             raise InputError(f"stored case {row.id!r} is damaged: {exc}; rebuild with `domes kb build`") from None
 
     @staticmethod
+    def _stored(frame: ProblemFrame) -> dict:
+        """The stored form of a problem frame, refused unless it reads back and fits its columns.
+
+        SQLite ignores the lengths of the columns; PostgreSQL enforces them.
+        """
+        data = frame.to_dict()
+        ProblemFrame.from_dict(data)  # e.g. an id too long (or not an id) could not be read back
+        limit = ProblemRow.__table__.c.problem_class.type.length
+        if len(frame.problem_class) > limit:
+            raise InputError(f"case {frame.id!r}: the problem class has more than {limit} characters")
+        return data
+
+    @staticmethod
     def _insert_problems(session: Session, frames: list[ProblemFrame], replace: bool = False) -> None:
         number = session.scalar(select(func.max(ProblemRow.number))) or 0
         for frame in frames:
+            data = KnowledgeBase._stored(frame)
             row = session.get(ProblemRow, frame.id)
             if row is not None and not replace:
                 raise InputError(f"a case with id {frame.id!r} is already in the case base")
             if row is None:
                 number += 1
-                session.add(ProblemRow(id=frame.id, number=number, problem_class=frame.problem_class, frame=frame.to_dict()))
+                session.add(ProblemRow(id=frame.id, number=number, problem_class=frame.problem_class, frame=data))
             else:
-                row.problem_class, row.frame = frame.problem_class, frame.to_dict()
+                row.problem_class, row.frame = frame.problem_class, data
 
     def retain(self, frame: ProblemFrame, replace: bool = False) -> None:
         """Store a solved problem (one transaction); an existing id is refused unless ``replace``."""
@@ -318,7 +347,7 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
                     KnowledgeBase._insert_problems(session, cases)
                     session.flush()
         except SQLAlchemyError as exc:
-            raise InputError(f"cannot build the case base {url}: {exc}") from None
+            raise InputError(f"cannot build the case base {shown(url)}: {exc}") from None
         finally:
             engine.dispose()
         return frames

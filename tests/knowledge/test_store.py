@@ -1,18 +1,27 @@
-"""The case base and `domes kb`: build, list, edits as transactions, export/import, schema versions."""
+"""The case base and `domes kb`: build, list, edits as transactions, export/import, schema versions.
 
+The tests that take a ``db`` or an ``empty`` database run twice: on an SQLite
+file and on PostgreSQL (a throw-away local server, :mod:`tests.postgres`;
+skipped with a note where it cannot start).
+"""
+
+import dataclasses
+import itertools
 import json
-import sqlite3
 from pathlib import Path
 
 import pytest
+from sqlalchemy import create_engine, inspect, select, update
+from sqlalchemy import text as sql
 
 from domes.cli import main
 from domes.errors import DomesError
 from domes.io.criteria import read_cases, read_file, read_knowledge
 from domes.knowledge.frames import CriterionFrame
 from domes.language.tree import to_json
-from domes.store.casebase import KnowledgeBase, build
-from domes.store.models import SCHEMA_VERSIONS
+from domes.store.casebase import KnowledgeBase, build, sqlite_path
+from domes.store.models import SCHEMA_VERSIONS, Base, CriterionRow, SchemaVersion
+from tests.postgres import postgres_casebase_fixture, postgres_server_fixture  # noqa: F401 (fixtures)
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout
 
@@ -25,15 +34,77 @@ def run(capsys, *argv):
     return status, out, err
 
 
+@pytest.fixture(params=["sqlite", "postgresql"])
+def backend(request):
+    """Where the case base is: an SQLite file, or a PostgreSQL database."""
+    return request.param
+
+
 @pytest.fixture
-def db(tmp_path):
+def db(backend, tmp_path, request):
+    """URL of a case base built from the shipped knowledge (on PostgreSQL, a copy of one built once)."""
+    if backend == "postgresql":
+        return request.getfixturevalue("postgres_casebase")
     path = tmp_path / "casebase.db"
     build(SHIPPED, str(path))
-    return path
+    return f"sqlite:///{path}"
+
+
+@pytest.fixture(scope="module", params=["sqlite", "postgresql"])
+def shared_db(request, tmp_path_factory):
+    """Like ``db``, one per module: for the tests of refused changes, which must each leave it as it was."""
+    if request.param == "postgresql":
+        return request.getfixturevalue("postgres_server").casebase()
+    path = tmp_path_factory.mktemp("shared") / "casebase.db"
+    build(SHIPPED, str(path))
+    return f"sqlite:///{path}"
+
+
+@pytest.fixture
+def empty(backend, tmp_path, request):
+    """A function that gives the URL of a new empty database (an SQLite file that does not exist yet)."""
+    if backend == "postgresql":
+        return request.getfixturevalue("postgres_server").create_database
+    names = itertools.count(1)
+    return lambda: f"sqlite:///{tmp_path / f'empty-{next(names)}.db'}"
+
+
+def execute(url, statement):
+    """Run one statement in its own transaction, beside DOMES-py (e.g. to damage a case base)."""
+    engine = create_engine(url)
+    try:
+        with engine.begin() as conn:
+            conn.execute(statement)
+    finally:
+        engine.dispose()
+
+
+def contents(url):
+    """Every row of every table of the case base, in primary-key order."""
+    engine = create_engine(url)
+    try:
+        with engine.connect() as conn:
+            return {t.name: conn.execute(select(t).order_by(*t.primary_key)).all() for t in Base.metadata.sorted_tables}
+    finally:
+        engine.dispose()
+
+
+def state(url):
+    """What a refused change must leave as it was: the rows of every table and, for SQLite, the file's bytes."""
+    path = sqlite_path(url)
+    return contents(url), (path.read_bytes() if path is not None else None)
+
+
+def tables(url):
+    engine = create_engine(url)
+    try:
+        return inspect(engine).get_table_names()
+    finally:
+        engine.dispose()
 
 
 def test_build_then_list_shows_the_shipped_criteria(db, capsys):
-    status, out, _ = run(capsys, "kb", "list", "--db", str(db))
+    status, out, _ = run(capsys, "kb", "list", "--db", db)
     assert status == 0
     shipped = read_knowledge(SHIPPED)
     for frame in shipped:
@@ -43,23 +114,34 @@ def test_build_then_list_shows_the_shipped_criteria(db, capsys):
     assert [f.category for f in shipped if f.id.startswith("book-")] == ["i", "ii", "iii", "iv", "v", "vi"]
 
 
-def test_build_from_the_cli_with_environment_variables(tmp_path, capsys, monkeypatch):
-    target = tmp_path / "env.db"
-    monkeypatch.setenv("DOMES_DB", str(target))
+def test_build_from_the_cli_with_environment_variables(empty, capsys, monkeypatch):
+    target = empty()
+    monkeypatch.setenv("DOMES_DB", target)
     monkeypatch.setenv("DOMES_KNOWLEDGE", str(SHIPPED))
     status, out, _ = run(capsys, "kb", "build")
-    assert status == 0 and target.exists()
-    assert [f.id for f in KnowledgeBase().frames()] == [f.id for f in read_knowledge(SHIPPED)]
+    assert status == 0
+    assert sqlite_path(target) is None or sqlite_path(target).exists()
+    with KnowledgeBase() as kb:
+        assert [f.id for f in kb.frames()] == [f.id for f in read_knowledge(SHIPPED)]
+        kb.add(CriterionFrame.create("extra", "every vertex must have degree at most 3"))
+        kb.remove_problem(read_cases(SHIPPED)[0].id)
+    # Building again makes the case base anew from the sources: the edits are gone.
+    assert run(capsys, "kb", "build")[0] == 0
+    with KnowledgeBase() as kb:
+        assert kb.frames() == read_knowledge(SHIPPED)
+        assert kb.problems() == read_cases(SHIPPED)
 
 
-def test_export_then_import_into_an_empty_database_gives_the_same_knowledge_base(db, tmp_path, capsys):
-    run(capsys, "kb", "disable", "--db", str(db), "--id", "book-iii")
+def test_export_then_import_into_an_empty_database_gives_the_same_knowledge_base(db, empty, tmp_path, capsys):
+    run(capsys, "kb", "disable", "--db", db, "--id", "book-iii")
     for suffix in (".toml", ".json"):
         exported = tmp_path / f"kb{suffix}"
-        empty = tmp_path / f"empty{suffix}.db"
-        assert run(capsys, "kb", "export", "--db", str(db), "-o", str(exported))[0] == 0
-        assert run(capsys, "kb", "import", "--db", str(empty), str(exported))[0] == 0
-        assert KnowledgeBase(str(empty)).frames() == KnowledgeBase(str(db)).frames()
+        target = empty()
+        assert run(capsys, "kb", "export", "--db", db, "-o", str(exported))[0] == 0
+        assert run(capsys, "kb", "import", "--db", target, str(exported))[0] == 0
+        with KnowledgeBase(target) as new, KnowledgeBase(db) as old:
+            assert new.frames() == old.frames()
+            assert [f.enabled for f in new.frames() if f.id == "book-iii"] == [False]
 
 
 def test_parse_prints_json_and_refuses_bad_text(capsys):
@@ -94,15 +176,16 @@ REFUSED_EDITS = [
 
 
 @pytest.mark.parametrize("argv", REFUSED_EDITS)
-def test_a_refused_edit_leaves_the_database_byte_identical(db, capsys, argv):
-    before = db.read_bytes()
-    status, out, err = run(capsys, "kb", *argv, "--db", str(db))
+def test_a_refused_edit_leaves_the_database_unchanged(shared_db, capsys, argv):
+    # unchanged: the same rows in every table and, for SQLite, the same bytes
+    before = state(shared_db)
+    status, out, err = run(capsys, "kb", *argv, "--db", shared_db)
     assert status == 2
     assert err.startswith("domes kb: error: ")
-    assert db.read_bytes() == before
+    assert state(shared_db) == before
 
 
-def test_a_refused_import_writes_nothing(db, tmp_path, capsys):
+def test_a_refused_import_writes_nothing(shared_db, tmp_path, capsys):
     good = '[[criterion]]\nid = "fresh-1"\ntext = "every vertex must have degree at most 4"\n'
     cases = {
         "bad-text.toml": good + '\n[[criterion]]\nid = "fresh-2"\ntext = "every vertex must"\n',
@@ -111,23 +194,26 @@ def test_a_refused_import_writes_nothing(db, tmp_path, capsys):
         "not-toml.toml": good + "\n[[criterion]\n",
         "unknown-field.toml": good + 'colour = "red"\n',
     }
-    before = db.read_bytes()
+    before = state(shared_db)
     for name, text in cases.items():
         path = tmp_path / name
         path.write_text(text)
-        status, _, err = run(capsys, "kb", "import", "--db", str(db), str(path))
+        status, _, err = run(capsys, "kb", "import", "--db", shared_db, str(path))
         assert status == 2, name
         assert str(path) in err
-        assert db.read_bytes() == before, name
+        assert state(shared_db) == before, name
 
 
-def test_a_refused_import_creates_no_database(tmp_path, capsys):
+def test_a_refused_import_creates_no_database(empty, tmp_path, capsys):
     path = tmp_path / "twice.toml"
     path.write_text('[[criterion]]\nid = "a"\ntext = "every vertex must have degree 2"\n' * 2)
-    target = tmp_path / "new.db"
-    status, _, err = run(capsys, "kb", "import", "--db", str(target), str(path))
+    target = empty()
+    status, _, err = run(capsys, "kb", "import", "--db", target, str(path))
     assert status == 2 and "given twice" in err
-    assert not target.exists()
+    if sqlite_path(target) is not None:
+        assert not sqlite_path(target).exists()
+    else:
+        assert tables(target) == []
 
 
 def test_error_messages_name_the_file_line_and_field(tmp_path):
@@ -141,56 +227,104 @@ def test_error_messages_name_the_file_line_and_field(tmp_path):
 
 
 def test_edits_are_applied(db, capsys):
-    assert run(capsys, "kb", "add", "--db", str(db), "--id", "new-1", "--text", "every vertex must have degree at most 3",
+    before = contents(db)
+    assert run(capsys, "kb", "add", "--db", db, "--id", "new-1", "--text", "every vertex must have degree at most 3",
                "--keywords", "degree, Link", "--explanation", "no pentagonal links")[0] == 0
-    kb = KnowledgeBase(str(db))
+    assert contents(db) != before
+    kb = KnowledgeBase(db)
     frame = kb.get("new-1")
     assert frame.keywords == ("degree", "link") and frame.category == "i" and frame.enabled
     assert kb.frames()[-1].id == "new-1"  # a new criterion extends the order (and relevance vectors)
-    run(capsys, "kb", "edit", "--db", str(db), "--id", "new-1", "--text", "every loop must have length at most 6")
+    run(capsys, "kb", "edit", "--db", db, "--id", "new-1", "--text", "every loop must have length at most 6")
     frame = kb.get("new-1")
     assert frame.category == "iii" and frame.level == 3  # derived level follows the new text
-    run(capsys, "kb", "disable", "--db", str(db), "--id", "new-1")
+    run(capsys, "kb", "disable", "--db", db, "--id", "new-1")
     assert not kb.get("new-1").enabled
-    run(capsys, "kb", "enable", "--db", str(db), "--id", "new-1")
+    run(capsys, "kb", "enable", "--db", db, "--id", "new-1")
     assert kb.get("new-1").enabled
-    status, out, _ = run(capsys, "kb", "show", "--db", str(db), "--id", "new-1")
+    status, out, _ = run(capsys, "kb", "show", "--db", db, "--id", "new-1")
     assert "reading:     every loop must have length at most 6" in out
-    run(capsys, "kb", "remove", "--db", str(db), "--id", "new-1")
+    run(capsys, "kb", "remove", "--db", db, "--id", "new-1")
     with pytest.raises(DomesError, match="no criterion with id 'new-1'"):
         kb.get("new-1")
-    assert run(capsys, "kb", "check", "--db", str(db))[0] == 0
+    assert run(capsys, "kb", "check", "--db", db)[0] == 0
     kb.close()
+    assert contents(db) == before  # added, then removed: as it was
 
 
 def test_check_finds_a_tree_that_does_not_match_its_text(db, capsys):
     frame = CriterionFrame.create("x", "every vertex must have degree 2")
-    with sqlite3.connect(db) as conn:
-        conn.execute("UPDATE criteria SET tree = ? WHERE id = 'book-i'", (json.dumps(to_json(frame.tree)),))
-    status, _, err = run(capsys, "kb", "check", "--db", str(db))
+    execute(db, update(CriterionRow).where(CriterionRow.id == "book-i").values(tree=to_json(frame.tree)))
+    status, _, err = run(capsys, "kb", "check", "--db", db)
     assert status == 2 and "book-i: the stored tree differs" in err
 
 
 def test_another_schema_version_is_refused_with_a_message(db, capsys):
-    with sqlite3.connect(db) as conn:
-        conn.execute("UPDATE schema_version SET version = ? WHERE component = 'knowledge'", (SCHEMA_VERSIONS["knowledge"] + 1,))
-    status, _, err = run(capsys, "kb", "list", "--db", str(db))
+    execute(db, update(SchemaVersion).where(SchemaVersion.component == "knowledge").values(version=SCHEMA_VERSIONS["knowledge"] + 1))
+    status, _, err = run(capsys, "kb", "list", "--db", db)
     assert status == 2
     assert "has version 2 of the 'knowledge' schema; this DOMES-py reads version 1" in err
     assert "domes kb build" in err
 
 
-def test_missing_empty_and_foreign_databases_are_refused(tmp_path, capsys):
+def test_missing_databases_are_refused(tmp_path, capsys):
     missing = tmp_path / "none.db"
     status, _, err = run(capsys, "kb", "list", "--db", str(missing))
     assert status == 2 and "no case base at" in err and not missing.exists()
-    foreign = tmp_path / "foreign.db"
-    with sqlite3.connect(foreign) as conn:
-        conn.execute("CREATE TABLE t (x)")
-    status, _, err = run(capsys, "kb", "list", "--db", str(foreign))
-    assert status == 2 and "is not a DOMES-py case base" in err
     status, _, err = run(capsys, "kb", "list", "--db", "nosuchdialect://x")
     assert status == 2 and "cannot open the case base" in err
+
+
+def test_messages_hide_the_password_of_a_database_url(capsys):
+    # No server listens on this socket: the connection fails, and the message shows the URL without its password.
+    status, _, err = run(capsys, "kb", "list", "--db", "postgresql+psycopg://me:s3cret@/cases?host=/nonexistent")
+    assert status == 2 and "postgresql+psycopg://me:***@/cases" in err
+    assert "s3cret" not in err
+
+
+def test_empty_and_foreign_databases_are_refused(empty, capsys):
+    blank = empty()
+    execute(blank, sql("SELECT 1"))  # an SQLite file is made, empty
+    status, _, err = run(capsys, "kb", "list", "--db", blank)
+    assert status == 2 and "is empty: build it with `domes kb build`" in err
+    foreign = empty()
+    execute(foreign, sql("CREATE TABLE t (x integer)"))
+    status, _, err = run(capsys, "kb", "list", "--db", foreign)
+    assert status == 2 and "is not a DOMES-py case base (it has tables ['t'] but no schema_version)" in err
+    assert tables(blank) == [] and tables(foreign) == ["t"]  # refused, nothing made
+
+
+def test_solved_problems_are_retained_and_removed(db, capsys):
+    cases = read_cases(SHIPPED)
+    with KnowledgeBase(db) as kb:
+        assert kb.problems() == cases
+        assert kb.problems(cases[0].problem_class) == [p for p in cases if p.problem_class == cases[0].problem_class]
+        new = dataclasses.replace(cases[0], id="retained-1", notes=("kept by a test",))
+        kb.retain(new)
+        assert kb.problems()[-1] == new and kb.get_problem("retained-1") == new  # solved last, listed last
+        before = state(db)
+        with pytest.raises(DomesError, match="a case with id 'retained-1' is already in the case base"):
+            kb.retain(dataclasses.replace(new, notes=()))
+        # What would not read back, or not fit its column, is refused on every database alike.
+        with pytest.raises(DomesError, match="problem frame.id: expected an id"):
+            kb.retain(dataclasses.replace(new, id="x" * 65))
+        with pytest.raises(DomesError, match="the problem class has more than 128 characters"):
+            kb.retain(dataclasses.replace(new, id="long-class", problem_class="k" * 129))
+        assert state(db) == before
+        kb.retain(dataclasses.replace(new, notes=("replaced",)), replace=True)
+        assert kb.get_problem("retained-1").notes == ("replaced",)
+        assert [p.id for p in kb.problems()] == [p.id for p in cases] + ["retained-1"]  # its place is kept
+    status, out, _ = run(capsys, "cases", "--db", db, "list")
+    assert status == 0 and all(f" {p.id} " in out for p in [*cases, new])
+    status, out, _ = run(capsys, "cases", "--db", db, "show", "retained-1", "--format", "json")
+    assert status == 0 and json.loads(out)["notes"] == ["replaced"]
+    assert run(capsys, "cases", "--db", db, "remove", "retained-1")[0] == 0
+    before = state(db)
+    status, _, err = run(capsys, "cases", "--db", db, "remove", "retained-1")
+    assert status == 2 and "no case 'retained-1' in the case base" in err
+    assert state(db) == before
+    with KnowledgeBase(db) as kb:
+        assert kb.problems() == cases
 
 
 def test_the_shipped_casebase_matches_the_sources():
