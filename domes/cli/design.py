@@ -14,6 +14,7 @@ from domes.errors import InputError
 from domes.expert.dialogue import Dialogue
 from domes.expert.replay import record_case, replay, scratch_casebase, shipped_cases
 from domes.expert.world import frame_text
+from domes.io.files import check_target
 from domes.io.transcripts import load_session, read_answers, save_session, write_transcript
 from domes.store.casebase import KnowledgeBase
 
@@ -61,6 +62,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_design(args: argparse.Namespace) -> int:
+    for target in (args.record, args.state):  # where the session will be written: refused now, not after it
+        if target:
+            check_target(target)
     answers, interactive = [], True
     if args.answers:
         answers, interactive = read_answers(args.answers), False

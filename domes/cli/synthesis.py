@@ -31,12 +31,19 @@ def register(sub: argparse._SubParsersAction) -> None:
 LARGE = 10_000
 #: More than this cannot be listed at all (the list would not finish).
 HUGE = 10_000_000
+#: Assortments are counted exactly up to this many loops (a second); beyond, the count is bounded below.
+COUNTED_LOOPS = 1000
 
 
 def run(args: argparse.Namespace) -> int:
     result = number_synthesis(args.dof, args.loops, args.space, args.gear_pairs)
     assortments = []
     if result.loops >= 1 and not args.no_assortments:
+        if result.loops > COUNTED_LOOPS:  # the count grows with the loops: the one at COUNTED_LOOPS is a lower bound
+            bound = number_synthesis(args.dof, COUNTED_LOOPS, args.space, args.gear_pairs)
+            raise InputError(f"{result.links} links and {result.joints} joints have more than "
+                             f"{count_link_assortments(bound.links, bound.joints):.3g} link assortments, too many to "
+                             "list; give --no-assortments for the numbers of links and joints")
         count = count_link_assortments(result.links, result.joints)
         if count > HUGE:
             raise InputError(f"{result.links} links and {result.joints} joints have {count:.3g} link assortments, "

@@ -21,7 +21,7 @@ from domes.errors import InputError
 from domes.expert.dialogue import Dialogue, Outcome
 from domes.io.resources import knowledge_dir
 from domes.io.transcripts import exchanges_answers, load_transcript, write_transcript
-from domes.store.casebase import KnowledgeBase, build, database_url, sqlite_path
+from domes.store.casebase import KnowledgeBase, copy_casebase, database_url, sqlite_path
 
 #: Frame fields that may differ between runs without the result changing.
 IGNORED = ("date",)
@@ -72,13 +72,16 @@ def case_path(name_or_path: str) -> Path:
 
 
 def scratch_casebase(url: str | None, leave_out: str | None, folder: Path) -> str:
-    """A temporary copy of the case base (SQLite file copied, another database built from knowledge/)."""
+    """A temporary SQLite copy of the case base (an SQLite file copied; another database's criteria and cases copied)."""
     target = folder / "casebase.db"
-    source = sqlite_path(database_url(url))
-    if source is not None and source.exists():
+    source_url = database_url(url)
+    source = sqlite_path(source_url)
+    if source is not None:
+        if not source.is_file():
+            raise InputError(f"no case base at {source}: build it with `domes kb build` (or choose one with --db)")
         shutil.copyfile(source, target)
     else:
-        build(url=f"sqlite:///{target}")
+        copy_casebase(source_url, f"sqlite:///{target}")
     scratch = f"sqlite:///{target}"
     if leave_out:
         with KnowledgeBase(scratch) as kb:

@@ -23,12 +23,13 @@ domes.errors.InputError: a criterion with id 'c1' is already in the knowledge ba
 
 from __future__ import annotations
 
+import json
 import os
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterable, Iterator
 
-from sqlalchemy import create_engine, func, inspect, select
+from sqlalchemy import create_engine, func, inspect, select, text
 from sqlalchemy.engine import Engine, make_url
 from sqlalchemy.exc import ArgumentError, SQLAlchemyError
 from sqlalchemy.orm import Session
@@ -109,6 +110,8 @@ def open_engine(url: str, create: bool = False) -> Engine:
     path = sqlite_path(url)
     if path is not None and not path.exists() and not create:
         raise InputError(f"no case base at {path}: build it with `domes kb build` (or choose one with --db / {DB_ENV})")
+    if path is not None and path.is_dir():
+        raise InputError(f"{path} is a folder, not a case base: give the case base's file (e.g. {path / 'casebase.db'})")
     engine = _engine(url)
     try:
         tables = set(inspect(engine).get_table_names())
@@ -125,7 +128,10 @@ def open_engine(url: str, create: bool = False) -> Engine:
             found = {row.component: row.version for row in session.scalars(select(SchemaVersion))}
     except SQLAlchemyError as exc:
         engine.dispose()
-        raise InputError(f"cannot read the case base {shown(url)}: {exc}") from None
+        reason = str(getattr(exc, "orig", None) or exc).splitlines()[0]
+        if path is not None:
+            raise InputError(f"{path} is not a DOMES-py case base, or it is damaged: {reason}") from None
+        raise InputError(f"cannot read the case base {shown(url)}: {reason}") from None
     except DomesError:
         engine.dispose()
         raise
@@ -175,22 +181,36 @@ class KnowledgeBase:
 
     # -- reading -----------------------------------------------------------------------
 
+    @contextmanager
+    def _reading(self) -> Iterator[Session]:
+        """One session that reads; a stored value that cannot be read (not JSON, nested beyond reason, a
+        missing table) says the case base is damaged instead of ending in a traceback."""
+        try:
+            with Session(self.engine) as session:
+                yield session
+        except (SQLAlchemyError, ValueError, TypeError, RecursionError) as exc:
+            reason = str(getattr(exc, "orig", None) or exc).splitlines()[0] if not isinstance(exc, RecursionError) \
+                else "a stored value is nested too deeply to read"
+            raise InputError(f"the case base {shown(self.url)} is damaged: {reason}; `domes kb check` names the "
+                             "damaged criteria; rebuild it with `domes kb build` (export your own criteria first)") from None
+
     def frames(self) -> list[CriterionFrame]:
         """Every criterion frame, in knowledge-base order (the order of relevance vectors)."""
-        with Session(self.engine) as session:
+        with self._reading() as session:
             rows = session.scalars(select(CriterionRow).order_by(CriterionRow.number)).all()
             return [self._frame(row) for row in rows]
 
     def get(self, criterion_id: str) -> CriterionFrame:
-        with Session(self.engine) as session:
+        with self._reading() as session:
             return self._frame(self._row(session, criterion_id))
 
     @staticmethod
     def _frame(row: CriterionRow) -> CriterionFrame:
         try:
             return row.frame()
-        except DomesError as exc:
-            raise InputError(f"stored criterion {row.id!r} is damaged: {exc}; run `domes kb check`") from None
+        except (DomesError, TypeError, ValueError, KeyError, RecursionError) as exc:
+            reason = "nested too deeply" if isinstance(exc, RecursionError) else str(exc)
+            raise InputError(f"stored criterion {row.id!r} is damaged: {reason}; run `domes kb check`") from None
 
     @staticmethod
     def _row(session: Session, criterion_id: str) -> CriterionRow:
@@ -199,9 +219,28 @@ class KnowledgeBase:
             raise InputError(f"no criterion with id {criterion_id!r} in the knowledge base (see `domes kb list`)")
         return row
 
+    def damaged(self) -> list[str]:
+        """The stored criteria that cannot be read at all, each with the reason (read row by row, raw)."""
+        out = []
+        with self._reading() as session:
+            rows = session.execute(text("SELECT id, tree, relevance, keywords FROM criteria ORDER BY number")).all()
+        for criterion_id, *values in rows:
+            try:
+                decoded = [json.loads(v) if isinstance(v, str) else v for v in values]
+                row = CriterionRow(id=criterion_id, tree=decoded[0], relevance=decoded[1], keywords=decoded[2],
+                                   text="", category="", explanation="", relevance_text="", level=1, source="",
+                                   date="", enabled=True)
+                row.frame()
+            except (DomesError, TypeError, ValueError, KeyError, RecursionError) as exc:
+                reason = "nested too deeply to read" if isinstance(exc, RecursionError) else str(exc).splitlines()[0]
+                out.append(f"{criterion_id}: damaged: {reason}")
+        return out
+
     def check(self) -> list[str]:
-        """What is wrong with the stored criteria: each one re-parsed from its text must give the stored trees."""
-        problems = []
+        """What is wrong with the stored criteria: each one readable, and re-parsed from its text giving the stored trees."""
+        problems = self.damaged()
+        if problems:
+            return problems
         for frame in self.frames():
             try:
                 fresh = CriterionFrame.create(
@@ -255,14 +294,14 @@ class KnowledgeBase:
 
     def problems(self, problem_class: str | None = None) -> list[ProblemFrame]:
         """Every stored problem frame (of one class, if given), in the order they were solved."""
-        with Session(self.engine) as session:
+        with self._reading() as session:
             query = select(ProblemRow).order_by(ProblemRow.number)
             if problem_class is not None:
                 query = query.where(ProblemRow.problem_class == problem_class)
             return [self._problem(row) for row in session.scalars(query)]
 
     def get_problem(self, problem_id: str) -> ProblemFrame:
-        with Session(self.engine) as session:
+        with self._reading() as session:
             row = session.get(ProblemRow, problem_id)
             if row is None:
                 raise InputError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
@@ -272,7 +311,7 @@ class KnowledgeBase:
     def _problem(row: ProblemRow) -> ProblemFrame:
         try:
             return ProblemFrame.from_dict(row.frame)
-        except DomesError as exc:
+        except (DomesError, TypeError, ValueError, KeyError) as exc:
             raise InputError(f"stored case {row.id!r} is damaged: {exc}; rebuild with `domes kb build`") from None
 
     @staticmethod
@@ -315,13 +354,47 @@ class KnowledgeBase:
             session.delete(row)
 
 
-def build(source: str | Path | None = None, url: str | None = None) -> list[CriterionFrame]:
+def copy_casebase(source: str, target: str) -> None:
+    """Copy the criteria and solved cases of one case base into another, new one (e.g. PostgreSQL into SQLite)."""
+    with KnowledgeBase(source) as kb:
+        frames, problems = kb.frames(), kb.problems()
+    with KnowledgeBase(target, create=True) as kb:
+        with kb._unit() as session:
+            KnowledgeBase._insert(session, frames)
+            KnowledgeBase._insert_problems(session, problems)
+
+
+def replaceable(url: str) -> str | None:
+    """Why building over ``url`` would destroy something that is not a case base (None: safe).
+
+    A missing file, an empty database and a DOMES-py case base (of any
+    schema version) may be built over; anything else is kept unless forced.
+    """
+    path = sqlite_path(url)
+    if path is not None and not path.exists():
+        return None
+    if path is not None and path.is_dir():
+        return f"{path} is a folder"
+    engine = _engine(url)
+    try:
+        tables = set(inspect(engine).get_table_names())
+    except SQLAlchemyError as exc:
+        return f"{shown(url)} is not a database DOMES-py can read ({str(getattr(exc, 'orig', None) or exc).splitlines()[0]})"
+    finally:
+        engine.dispose()
+    if tables and SchemaVersion.__tablename__ not in tables:
+        return f"{shown(url)} is not a DOMES-py case base (it has tables {', '.join(sorted(tables))})"
+    return None
+
+
+def build(source: str | Path | None = None, url: str | None = None, force: bool = False) -> list[CriterionFrame]:
     """Build the case base from the knowledge sources; returns the frames stored.
 
     All sources are read and validated first. An SQLite file is built
     beside its target and moved over it (the old one stays until the new
     one is complete); another database has its tables dropped and made
-    anew in one transaction.
+    anew in one transaction. A target that is not a case base (another
+    SQLite file, a database with other tables) is refused unless ``force``.
     """
     folder = knowledge_dir(source)
     frames = read_knowledge(folder)
@@ -335,6 +408,9 @@ def build(source: str | Path | None = None, url: str | None = None) -> list[Crit
         url = f"sqlite:///{target}"
     url = database_url(url)
     path = sqlite_path(url)
+    why = None if force else replaceable(url)
+    if why:
+        raise InputError(f"{why}: building the case base there would destroy it; give --force to replace it anyway")
     if path is None:
         engine = _engine(url)
         try:
