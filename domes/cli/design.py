@@ -9,7 +9,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from domes.cli.common import DB_HELP
+from domes.cli.common import DB_HELP, progress_printer
 from domes.errors import InputError
 from domes.expert.dialogue import Dialogue
 from domes.expert.replay import record_case, replay, scratch_casebase, shipped_cases
@@ -75,7 +75,8 @@ def run_design(args: argparse.Namespace) -> int:
         url = scratch_casebase(args.db, None, Path(tmp)) if args.dry_run else args.db
         if args.dry_run:
             print("Dry run: a scratch copy of the case base; nothing is kept.")
-        status = _design(args, Dialogue(url, answers, interactive=interactive or bool(args.resume), vary=not args.no_vary))
+        status = _design(args, Dialogue(url, answers, interactive=interactive or bool(args.resume), vary=not args.no_vary,
+                                        progress=progress_printer()))
         if args.dry_run:
             print("Dry run: the case base is unchanged.")
         return status

@@ -33,6 +33,7 @@ from domes.io.scenes import scene_names
 from domes.io.transcripts import TRANSCRIPT_FORMAT
 from domes.knowledge.problems import ProblemFrame
 from domes.model.labelled import LabelledChain
+from domes.results import Progress
 
 
 @dataclass
@@ -66,13 +67,14 @@ class Dialogue:
         out: Callable[[str], None] | None = None,
         read: Callable[[str], str] = input,
         vary: bool = True,
+        progress: Progress | None = None,
     ):
         self.say = out or (lambda text: print(text, flush=True))
         self.script = list(answers or [])
         self.used = 0
         self.interactive = interactive
         self.read = read
-        self.world = World(url, self.say, vary=vary)
+        self.world = World(url, self.say, vary=vary, progress=progress)
         self.exchanges: list[dict] = []
 
     # -- questions -----------------------------------------------------------------------

@@ -23,6 +23,7 @@ from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
 from domes.knowledge.relevance import is_relevant, relevance_vector, unavailable_names
 from domes.language.tree import names_used
+from domes.results import Progress
 from domes.store.casebase import KnowledgeBase
 from domes.typesynth.number import number_synthesis
 
@@ -30,10 +31,11 @@ from domes.typesynth.number import number_synthesis
 class World:
     """The design expert's access to the case base (one transaction per change) and the designer."""
 
-    def __init__(self, url: str | None, say: Callable[[str], None], vary: bool = True):
+    def __init__(self, url: str | None, say: Callable[[str], None], vary: bool = True, progress: Progress | None = None):
         self.url = url
         self.say = say
         self.vary = vary
+        self.progress = progress
         self.run_result: DesignRun | None = None
         self.shown: ProblemFrame | None = None
         self.retained: ProblemFrame | None = None
@@ -203,7 +205,7 @@ class World:
         self.say(f"Designing: {problem.links} links, {problem.joints} joints, DOF {problem.dof}"
                  + (f", scene {problem.scene}" if problem.scene else "") + " ...")
         criteria = self.criteria()
-        self.run_result = design(problem, criteria, problem.relevance, vary=self.vary)
+        self.run_result = design(problem, criteria, problem.relevance, vary=self.vary, progress=self.progress)
         for note in self.run_result.notes:
             self.say(note)
         self.say(result_text(self.run_result, criteria))
