@@ -27,6 +27,7 @@ import sys
 from domes.cli.common import confirm, progress_printer
 from domes.errors import InputError
 from domes.io.mechanisms import load_mechanism
+from domes.motion.planar.kernel import vectorizable
 from domes.motion.planar.query import PRESETS, Kinematics, accuracy
 from domes.motion.planar.sweep import grid_size, run_sweep
 
@@ -51,6 +52,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--format", choices=("text", "csv", "json"), default="text")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default", help="accuracy preset (default: default)")
     p.add_argument("--tol", type=float, help="override the preset's Newton tolerance")
+    p.add_argument("--derivatives", type=float, metavar="BOUND",
+                   help="override the largest error bound accepted for a velocity or acceleration (relative; "
+                   "near a singular point derivatives beyond it are refused)")
     p.add_argument("--method", choices=("assur", "newton"), default="assur",
                    help="assur: closed-form dyads and per-group Newton (default); newton: the whole loop-closure model")
     p.add_argument("--input", dest="joint", metavar="JOINT", help="driven joint to sweep (default: the first input)")
@@ -64,8 +68,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 #: Sweeps of more steps than this run only when the user agrees (--yes).
 LARGE_SWEEP = 100_000
-#: Measured time of one step of a sweep (positions to accelerations, the examples), for the estimate.
-SECONDS_PER_STEP = 0.002
+#: Measured time of one step of a sweep (positions to accelerations, the examples; docs/benchmarks.md), for the
+#: estimate: on arrays (drivers and dyads) and step by step (groups solved by Newton's method).
+SECONDS_PER_STEP = {True: 3e-6, False: 2e-3}
+#: Measured time to write one row of the table (text), for the estimate.
+SECONDS_PER_ROW = 2e-5
 
 
 def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
@@ -85,7 +92,7 @@ def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
 
 def run(args: argparse.Namespace) -> int:
     mech = load_mechanism(args.file)
-    acc = accuracy(args.accuracy, tol=args.tol)
+    acc = accuracy(args.accuracy, tol=args.tol, derivatives=args.derivatives)
     kin = Kinematics(mech, args.outputs, args.order, args.method, acc)
     joint = args.joint or mech.inputs[0].joint
     angular = mech.joint(joint).kind == "R"
@@ -97,8 +104,9 @@ def run(args: argparse.Namespace) -> int:
         unit = to_in(1.0)  # the file's units and degrees, as the user wrote them
         steps = grid_size(start / unit, stop / unit, (step or (acc.step if angular else acc.step * mech.size)) / unit)
         if steps > LARGE_SWEEP:
-            confirm("kinematics", f"a sweep of {steps:,} steps takes about {steps * SECONDS_PER_STEP / 60:.0f} min "
-                    f"(about {SECONDS_PER_STEP * 1000:.0f} ms a step)", args.yes)
+            each = SECONDS_PER_STEP[vectorizable(kin)] + SECONDS_PER_ROW
+            confirm("kinematics", f"a sweep of {steps:,} steps takes about {max(steps * each / 60, 1):.0f} min "
+                    f"(about {each * 1e6:.0f} µs a step, most of it writing the table)", args.yes)
     else:
         if args.at is not None and not math.isfinite(args.at):
             raise InputError(f"--at must be a finite number, got {args.at}")
@@ -114,17 +122,17 @@ def run(args: argparse.Namespace) -> int:
         base = col.rstrip("'")
         return math.degrees(value) if deg and base in angle_cols else value
 
-    rows = []
-    for st in sw.steps:
-        rows.append({"input": from_in(st.inputs[joint]), **{c: shown(c, v) for c, v in st.values.items()},
-                     "residual": st.residual, "condition": st.condition})
-    dead = [{"input": from_in(d.input), "within": from_in(d.within) if angular else d.within, "kind": d.kind,
-             "group": d.group, "joints": list(d.joints), "message": d.message} for d in sw.dead_points]
+    table = {c: [shown(c, float(v)) for v in sw.column(c)] for c in sw.columns}
+    rows = [{"input": from_in(float(q)), **{c: table[c][k] for c in sw.columns}, "residual": float(sw.residuals[k]),
+             "condition": float(sw.conditions[k])} for k, q in enumerate(sw.inputs)]
+    dead = [{"input": from_in(float(d.input)), "within": from_in(float(d.within)), "kind": d.kind,
+             "group": d.group, "joints": list(d.joints), "message": d.message} for d in sw.dead_points + sw.passed]
     out = sys.stdout
     if args.format == "json":
         doc = {"mechanism": mech.name, "file": args.file, "input": joint, "angle_unit": args.angles,
                "order": args.order, "method": args.method,
-               "accuracy": {"preset": acc.name, "tol": acc.tol, "step": acc.step, "locate": acc.locate},
+               "accuracy": {"preset": acc.name, "tol": acc.tol, "step": acc.step, "locate": acc.locate,
+                            "derivatives": acc.derivatives},
                "groups": [{"kind": g.kind, "links": list(g.links), "joints": list(g.joints), "equations": g.equations}
                           for g in kin.groups],
                "groups_solved": sw.groups_solved, "groups_total": sw.groups_total, "equations": sw.equations,

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from typing import Mapping, Sequence
 
 from domes.errors import DomesError, InputError
-from domes.motion import CouplerPoint, DeadPoint, DeadPointKind, Kinematics, Mechanism, solve, sweep
+from domes.motion import CouplerPoint, DeadPoint, Kinematics, Mechanism, solve, sweep
 from domes.results import Status
 from domes.sketch import symbols
 from domes.sketch.draw import INK, PLATE_FILL, Frame
@@ -171,7 +171,7 @@ def coupler_curves(mech: Mechanism, names: Sequence[str], span: tuple[float, flo
     steps, first, last = [], None, None
     for k, run in enumerate(runs):
         start = run.steps[0].inputs[run.joint] if run.steps else q0
-        stop = next((d for d in run.dead_points if d.kind is not DeadPointKind.SINGULAR), None) if run.status is Status.STOPPED else None
+        stop = next((d for d in run.dead_points if d.stops), None) if run.status is Status.STOPPED else None
         found = list(run.steps)
         end = _end_point(mech, outputs, stop, start, accuracy) if stop else None
         if end is not None:

@@ -56,13 +56,14 @@ def test_triple_rocker_reachable_range_ends_at_the_limits():
 
 def test_change_point_four_bar():
     # Grashof boundary s + l = p + q: the input turns fully; the branch points (links collinear at 0° and 180°)
-    # are reported, and at 0° velocities are refused with the joints and the angle named.
+    # are reported as bifurcations (issue 12: located like dead points), and at 180° velocities are refused
+    # with the joints and the angle named.
     m = _four_bar(2, 1, 2, 1)
     assert grashof(m).kind == "change point"
     r = rotatability(m)
     assert r.full
-    singular = sorted(math.degrees(d.input) % 360 for d in r.dead_points if d.kind == "singular")
-    assert singular == pytest.approx([0.0, 180.0], abs=1e-4) or singular == pytest.approx([180.0, 360.0], abs=1e-4)
+    branch = sorted(math.degrees(d.input) % 360 for d in r.dead_points if d.kind == "bifurcation")
+    assert branch == pytest.approx([0.0, 180.0], abs=1e-4) or branch == pytest.approx([180.0, 360.0], abs=1e-4)
     from domes.motion import solve
     with pytest.raises(DomesError, match=r"joints B, C, D.*input 180°"):
         solve(m, math.pi, order=1)

@@ -110,7 +110,7 @@ def rotatability(mech: Mechanism, accuracy=None) -> Rotatability:
     g = None
     if len(mech.links) == 4 and all(j.kind == "R" for j in mech.joints):
         g = grashof(mech)
-    full = up.status is Status.COMPLETE and not any(d.kind is not DeadPointKind.SINGULAR for d in dead)
+    full = up.status is Status.COMPLETE and not any(d.stops for d in dead)
     return Rotatability(full, (lo, hi), tuple(dead), g)
 
 
@@ -255,7 +255,7 @@ def output_range(mech: Mechanism, output: str, start: float, stop: float, step=N
                 cands.append((v, q))
     lo = min(cands)
     hi = max(cands)
-    stopped = next((d for d in sw.dead_points if d.kind is not DeadPointKind.SINGULAR), None)
+    stopped = next((d for d in sw.dead_points if d.stops), None)
     return OutputRange(col, lo[0], hi[0], lo[1], hi[1], stopped)
 
 

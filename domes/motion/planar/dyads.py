@@ -197,20 +197,22 @@ class DyadPlan:
             raise InputError(f"{where}: no closed form for a {kind} dyad")
         return cls(kind, l1, l2, a, b, c, sign)
 
-    def solve(self, world, rotation_of) -> tuple[dict, dict]:
+    def solve(self, world, rotation_of, sign: float | None = None) -> tuple[dict, dict]:
         """Rotations ``{link: Δ}`` and slides ``{joint: s}`` of the dyad.
 
         ``world(joint)`` is the world position of ``joint``'s point on the
         known link; ``rotation_of(link)`` the current rotation of a link
-        whose rotation is already known.
+        whose rotation is already known; ``sign`` overrides the drawn
+        assembly mode (after a bifurcation).
         """
         a, b, c = self.a, self.b, self.c
+        sign = self.sign if sign is None else sign
         if self.kind == "RRR":
             A, C = world(a), world(c)
             l1 = math.dist(a.at, b.at)
             l2 = math.dist(c.at, b.at)
             try:
-                B, th1, th2 = rrr(A, C, l1, l2, self.sign)
+                B, th1, th2 = rrr(A, C, l1, l2, sign)
             except Undetermined:
                 raise Undetermined(f"joints {a.name} and {c.name} coincide: the dyad {{{self.l1}, {self.l2}}} can turn "
                                    f"about them, joint {b.name} is undetermined") from None
@@ -226,7 +228,7 @@ class DyadPlan:
             e, t0 = _cross(u0, rel0), _dot(u0, rel0)
             D = _sub(world(s_pivot), world(g_pivot))
             r = math.hypot(*D)
-            t = self.sign * _sqrt_diff(r, abs(e), r, f"dyad {{{self.l1}, {self.l2}}} cannot be assembled: pivots "
+            t = sign * _sqrt_diff(r, abs(e), r, f"dyad {{{self.l1}, {self.l2}}} cannot be assembled: pivots "
                                        f"{g_pivot.name}, {s_pivot.name} are {r:.12g} apart, closer than the slide "
                                        f"offset {abs(e):.12g}")
             if r == 0.0:
@@ -246,7 +248,7 @@ class DyadPlan:
             h = abs(_cross(u, w))
             root = _sqrt_diff(l1, h, max(l1, h), f"dyad {{{self.l1}, {self.l2}}} cannot be assembled: joint {b.name} "
                               f"is {h:.12g} from the slide line of {c.name}, farther than |{a.name}{b.name}| = {l1:.12g}")
-            tau = -_dot(u, w) + self.sign * root
+            tau = -_dot(u, w) + sign * root
             B = (p0[0] + tau * u[0], p0[1] + tau * u[1])
             return ({self.l1: _angle(B, A) - _angle(b.at, a.at)}, {c.name: c.s0 + sg * tau})
         if self.kind == "PRP":

@@ -51,3 +51,20 @@ def slider_crank(crank: float = 1.0, rod: float = 3.0, offset: float = 0.0) -> M
          Joint("S", "P", ("frame", "slider"), (x, offset), 0.0, (0.0, offset))],
         [Input("A")],
     )
+
+
+def parallelogram() -> Mechanism:
+    """Parallelogram four-bar: crank 1, coupler 3, drawn at 1 rad; its change points are at 0 and 180°.
+
+    There all four joints are collinear and the parallelogram and the
+    crossed (antiparallelogram) assembly modes meet: a bifurcation.
+    """
+    bx, by = math.cos(1.0), math.sin(1.0)
+    return Mechanism.build(
+        "parallelogram four-bar", ["frame", "crank", "coupler", "rocker"], "frame",
+        [Joint("A", "R", ("frame", "crank"), (0.0, 0.0)),
+         Joint("B", "R", ("crank", "coupler"), (bx, by)),
+         Joint("C", "R", ("coupler", "rocker"), (bx + 3.0, by)),
+         Joint("D", "R", ("rocker", "frame"), (3.0, 0.0))],
+        [Input("A")],
+    )

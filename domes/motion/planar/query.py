@@ -41,7 +41,10 @@ class Accuracy:
     (closed-form dyads are exact to rounding whatever ``tol``); ``step``: sweep resolution (rad for an R input; for a P input
     ``step·size``); ``locate``: how closely dead points and extremes are
     located (rad, or ``locate·size``); ``refine``: locate output extremes
-    and singular points between steps.
+    and singular points between steps; ``derivatives``: the largest error
+    bound accepted for a velocity or acceleration (relative;
+    :func:`error_bounds`): beyond it, near a singular point, derivatives are
+    refused rather than returned.
     """
 
     name: str
@@ -49,18 +52,19 @@ class Accuracy:
     step: float
     locate: float
     refine: bool = True
+    derivatives: float = 1e-6
 
 
 #: Named presets: the trade of time for accuracy measured in ``docs/kinematics.md``.
 PRESETS = {
-    "fast": Accuracy("fast", 1e-4, math.radians(5.0), 1e-4, False),
-    "default": Accuracy("default", 1e-9, math.radians(1.0), 1e-10, True),
-    "exact": Accuracy("exact", 1e-15, math.radians(0.25), 1e-13, True),
+    "fast": Accuracy("fast", 1e-4, math.radians(5.0), 1e-4, False, 1e-3),
+    "default": Accuracy("default", 1e-9, math.radians(1.0), 1e-10, True, 1e-6),
+    "exact": Accuracy("exact", 1e-15, math.radians(0.25), 1e-13, True, 1e-9),
 }
 
 
-def accuracy(spec=None, tol=None, step=None) -> Accuracy:
-    """An :class:`Accuracy` from a preset name (or an Accuracy), optionally overriding ``tol`` and ``step``.
+def accuracy(spec=None, tol=None, step=None, derivatives=None) -> Accuracy:
+    """An :class:`Accuracy` from a preset name (or an Accuracy), optionally overriding ``tol``, ``step``, ``derivatives``.
 
     >>> accuracy("fast", tol=1e-9).tol
     1e-09
@@ -71,22 +75,55 @@ def accuracy(spec=None, tol=None, step=None) -> Accuracy:
         if spec not in PRESETS:
             raise InputError(f"accuracy preset must be one of {sorted(PRESETS)}, got {spec!r}")
         spec = PRESETS[spec]
-    if tol is not None or step is not None:
-        if tol is not None and not 0 < tol < 1:
-            raise InputError(f"tol must be in (0, 1), got {tol}")
-        if step is not None and not step > 0:
-            raise InputError(f"step must be > 0, got {step}")
-        spec = Accuracy(f"{spec.name}*", tol if tol is not None else spec.tol, step if step is not None else spec.step,
-                        min(spec.locate, tol) if tol is not None else spec.locate, spec.refine)
-    return spec
+    if tol is None and step is None and derivatives is None:
+        return spec
+    if tol is not None and not 0 < tol < 1:
+        raise InputError(f"tol must be in (0, 1), got {tol}")
+    if step is not None and not step > 0:
+        raise InputError(f"step must be > 0, got {step}")
+    if derivatives is not None and not derivatives > 0:
+        raise InputError(f"derivatives (the largest accepted error bound) must be > 0, got {derivatives}")
+    return Accuracy(f"{spec.name}*", tol if tol is not None else spec.tol, step if step is not None else spec.step,
+                    min(spec.locate, tol) if tol is not None else spec.locate, spec.refine,
+                    derivatives if derivatives is not None else spec.derivatives)
 
 
 #: Beyond this condition number of a group's scaled Jacobian its pose is known only to about
 #: √eps and its velocities not at all: derivatives are refused (the pose is a singular point).
 SINGULAR_CONDITION = 1e7
 
+EPS = 2.220446049250313e-16
+
+
+def error_bounds(condition, order: int) -> list:
+    """Relative error bounds of positions, velocities and accelerations from the condition number.
+
+    Near a singular point the pose is known to about ``cond·ε`` (relative to
+    the size); each derivative solves the same near-singular system once
+    more with a Jacobian that carries that error, so the bound of order
+    ``k`` is ``cond^(k+1)·ε``. Works on numbers and on numpy arrays.
+
+    >>> [f"{e:.1e}" for e in error_bounds(3.3e6, 2)]
+    ['7.3e-10', '2.4e-03', '8.0e+03']
+    """
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = [np.asarray(condition, dtype=float) ** (k + 1) * EPS for k in range(order + 1)]
+    return [float(e) if e.ndim == 0 else e for e in out]
+
+
+def refused(condition, order: int, tolerance: float) -> bool:
+    """Whether derivatives up to ``order`` must be refused at this condition number (singular, or bound too large)."""
+    if order == 0:
+        return False
+    return not (condition <= SINGULAR_CONDITION and error_bounds(condition, order)[order] <= tolerance)
+
 #: The largest change of a rotation (rad) or of a slide (fraction of the size) accepted in one continuation step.
 JUMP = 0.75
+
+
+def sign_key(group) -> str:
+    """The state entry that holds a dyad's assembly mode once a bifurcation has changed it."""
+    return f"sign:{group.index}"
 
 
 _as_accuracy = accuracy  # Kinematics takes an ``accuracy`` argument of the same name
@@ -126,6 +163,8 @@ class Step(Result):
     Derivative columns end in ``'`` (velocity) and ``''`` (acceleration).
     A configuration that cannot be solved raises a
     :class:`~domes.errors.NumericalError` instead, so a step is always COMPLETE.
+    ``passed`` lists the branch points (bifurcation dead points) passed on
+    the way from the drawn pose.
     """
 
     inputs: dict
@@ -133,12 +172,21 @@ class Step(Result):
     residual: float
     condition: float
     state: dict = field(repr=False, compare=False, default_factory=dict)
+    passed: tuple = field(repr=False, compare=False, default=())
 
     status = Status.COMPLETE
 
     @property
+    def bounds(self) -> list[float]:
+        """Estimated relative error bounds of the positions, velocities and accelerations (:func:`error_bounds`)."""
+        return error_bounds(self.condition, 2)
+
+    @property
     def message(self) -> str:
-        return f"solved: residual {self.residual:.2g}, condition {self.condition:.3g}"
+        text = f"solved: residual {self.residual:.2g}, condition {self.condition:.3g}"
+        if self.passed:
+            text += f"; passed {len(self.passed)} branch points on the way: " + "; ".join(d.message for d in self.passed)
+        return text
 
 
 @dataclass(frozen=True)
@@ -297,7 +345,7 @@ class Kinematics:
         def world(joint):
             return tuple(evaluate(self._outer_paths[joint.name], values)[0])
 
-        rotations, slides = plan.solve(world, lambda link: rot[link].value(values))
+        rotations, slides = plan.solve(world, lambda link: rot[link].value(values), values.get(sign_key(g)))
         for link, delta in rotations.items():
             expr = rot[link]
             var, coeff = next((v, c) for v, c in expr.terms if v in g.unknowns)
@@ -383,6 +431,12 @@ class Kinematics:
             if not math.isfinite(cond) or cond > SINGULAR_CONDITION:
                 raise SolveFailure(f"{g.label}: Jacobian singular (condition {cond:.3g}); velocities are undetermined "
                                    f"at joints {', '.join(g.joints)}", FailureKind.SINGULAR, g, cond)
+            if refused(cond, order, self.accuracy.derivatives):
+                what = "velocities" if order == 1 else "accelerations"
+                raise SolveFailure(f"{g.label}: near a singular point at joints {', '.join(g.joints)} (condition "
+                                   f"{cond:.3g}) the {what} are known only to {error_bounds(cond, order)[order]:.2g} "
+                                   f"(relative), more than the accuracy's {self.accuracy.derivatives:g}; they are "
+                                   "refused (ask a lower order, or another input)", FailureKind.SINGULAR, g, cond)
             rhs = np.zeros(n)
             for i, cols in enumerate(loops):
                 for v, c in cols.items():

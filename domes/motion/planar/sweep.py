@@ -1,14 +1,22 @@
-"""Sweeps of one input with branch continuity, dead points and the reachable range.
+"""Sweeps of one input with branch continuity, dead points, bifurcations and the reachable range.
 
 The sweep starts from the drawn pose and walks (by the query's resolution)
-to ``start``, then through the grid to ``stop``. Each step is solved from
-the previous one, so the assembly mode is the drawn one. A step that
-cannot be solved is refined by halving (seed 000, §4: "by refining the step
-size one can determine the singular positions"), down to the accuracy's
-``locate``: the sweep then stops and reports the limit (dead) position
-with the group and joints concerned. Between steps the condition number of
-the Jacobian is watched; a peak is refined (golden section) and reported as
-a singular (branch) point when the Jacobian is singular there.
+to ``start``, then through the grid to ``stop``, each configuration
+continuing the previous one, so the assembly mode is the drawn one. A
+configuration that cannot be solved is refined by halving (seed 000, §4:
+"by refining the step size one can determine the singular positions"), down
+to the accuracy's ``locate``: the sweep then stops and reports the limit
+(dead) position with the group and joints concerned.
+
+A query of drivers and dyads runs on arrays (:mod:`~domes.motion.planar.branches`):
+the whole grid at once, scalar code only where a decision is needed, and
+every change or branch point located and passed on the branch whose
+velocities are continuous (a ``bifurcation`` dead point). Larger groups
+(Newton's method) walk step by step; there a peak of the condition number
+is refined (golden section) and reported as a ``singular`` point. Wherever
+the condition number cannot bound the error of a velocity or acceleration
+(:func:`~domes.motion.planar.query.error_bounds` above the accuracy's
+``derivatives``), the derivative is NaN and a ``singular`` dead point says why.
 
 >>> from domes.motion.planar.examples import triple_rocker
 >>> sw = sweep(triple_rocker(), 0.0, math.radians(130), math.radians(1), outputs=["angle:rocker"])
@@ -19,63 +27,63 @@ a singular (branch) point when the Jacobian is singular there.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from enum import StrEnum
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from domes.errors import InputError, NumericalError
+from domes.errors import NumericalError
 from domes.model.mechanism import Mechanism
-from domes.motion.planar.query import PRESETS, SINGULAR_CONDITION, Accuracy, Kinematics, SolveFailure, Step
+from domes.motion.planar.arrays import Compiled, fine_grid, motion_many, outputs_many
+from domes.motion.planar.branches import Walker
+from domes.motion.planar.continuation import (
+    MAX_STEPS,
+    Continuation,
+    DeadPoint,
+    DeadPointKind,
+    Stuck,
+    dead_point,
+    grid,
+    grid_size,
+)
+from domes.motion.planar.kernel import vectorizable
+from domes.motion.planar.query import (
+    PRESETS,
+    SINGULAR_CONDITION,
+    Accuracy,
+    FailureKind,
+    Kinematics,
+    SolveFailure,
+    Step,
+    error_bounds,
+)
 from domes.results import Progress, Result, Status, Ticker
 
-#: Condition numbers above this, at a local peak, are refined to look for a singular point.
+__all__ = ["Continuation", "DeadPoint", "DeadPointKind", "MAX_STEPS", "Steps", "Sweep", "grid", "grid_size",
+           "run_sweep", "solve", "sweep"]
+
+#: Condition numbers above this, at a local peak, are refined to look for a singular point (Newton groups).
 WATCH_CONDITION = 1e2
 
 
-class DeadPointKind(StrEnum):
-    """What happens to the mechanism at a dead point."""
-
-    #: It cannot be assembled beyond this input.
-    LIMIT = "limit"
-    #: Its Jacobian is singular here; the sweep went on in the same assembly mode.
-    SINGULAR = "singular"
-    #: Its pose is not determined here (coincident joints, parallel slides).
-    UNDETERMINED = "undetermined"
-    #: Its pose would jump here (a bifurcation).
-    DISCONTINUITY = "discontinuity"
-
-
-@dataclass(frozen=True)
-class DeadPoint:
-    """A limit or singular position of the input.
-
-    ``kind``: ``limit`` (the mechanism cannot be assembled beyond it),
-    ``singular`` (the Jacobian is singular there; the sweep went on in the same
-    assembly mode), ``undetermined`` (coincident joints or parallel slides),
-    ``discontinuity`` (the solution would jump: a bifurcation).
-    ``input`` is located within ``within``.
-    """
-
-    input: float
-    within: float
-    kind: DeadPointKind
-    group: str
-    joints: tuple[str, ...]
-    message: str
-
-
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Sweep(Result):
-    """The result of a sweep: steps, dead points, status and what was solved.
+    """The result of a sweep: a table of the outputs at every step, dead points, status and what was solved.
 
     ``status`` is COMPLETE when the whole range was swept, STOPPED when a
-    dead point ended it (the steps hold what was reached); ``max_residual``
-    and each step's residual and condition number show how good the numbers are.
+    dead point ended it (the table holds what was reached). ``inputs`` and
+    each column of ``table`` are arrays over the steps; ``residuals`` and
+    ``conditions`` show how good each step's numbers are; :attr:`steps`
+    gives them as :class:`~domes.motion.planar.query.Step` objects.
+    ``passed`` holds the branch points passed between the drawn pose and
+    ``start``.
     """
 
     joint: str
-    steps: tuple[Step, ...]
+    inputs: np.ndarray
+    table: dict
+    residuals: np.ndarray
+    conditions: np.ndarray
     dead_points: tuple[DeadPoint, ...]
     status: Status
     reachable: tuple[float, float]
@@ -85,115 +93,57 @@ class Sweep(Result):
     accuracy: Accuracy
     columns: tuple[str, ...]
     angular: bool
+    fixed: dict = field(default_factory=dict)
+    states: dict = field(default_factory=dict, repr=False)
+    passed: tuple[DeadPoint, ...] = ()
+
+    @property
+    def steps(self) -> "Steps":
+        """The steps as :class:`~domes.motion.planar.query.Step` objects (made when read)."""
+        return Steps(self)
+
+    def column(self, name: str) -> np.ndarray:
+        """One output column over the steps (e.g. ``"angle:rocker'"``)."""
+        return self.table[name]
 
     @property
     def max_residual(self) -> float:
-        return max((s.residual for s in self.steps), default=0.0)
+        return float(np.max(self.residuals)) if self.residuals.size else 0.0
 
     @property
     def max_condition(self) -> float:
-        return max((s.condition for s in self.steps), default=1.0)
+        return float(np.max(self.conditions)) if self.conditions.size else 1.0
 
     @property
     def message(self) -> str:
         scale = math.degrees if self.angular else float
         unit = "°" if self.angular else ""
         lo, hi = (scale(x) for x in self.reachable)
-        text = (f"{self.status}: input {self.joint} swept {lo:.6g}{unit} .. {hi:.6g}{unit} in {len(self.steps)} steps, "
+        text = (f"{self.status}: input {self.joint} swept {lo:.6g}{unit} .. {hi:.6g}{unit} in {self.inputs.size} steps, "
                 f"max residual {self.max_residual:.2g}, {len(self.dead_points)} dead points")
-        stop = next((d for d in self.dead_points if d.kind != DeadPointKind.SINGULAR), None)
+        branch = sum(d.kind is DeadPointKind.BIFURCATION for d in self.dead_points)
+        if branch:
+            text += f" ({branch} of them branch points)"
+        stop = next((d for d in self.dead_points if d.stops), None)
         return text + (f"; stopped: {stop.message}" if self.status is Status.STOPPED and stop else "")
 
 
-class _Stuck(Exception):
-    def __init__(self, good, bad, state, failure):
-        super().__init__(str(failure))
-        self.good, self.bad, self.state, self.failure = good, bad, state, failure
+class Steps(Sequence):
+    """The steps of a :class:`Sweep`, each made into a :class:`~domes.motion.planar.query.Step` when read."""
 
+    def __init__(self, sweep: Sweep):
+        self._sweep = sweep
 
-class Continuation:
-    """Walks one input of a compiled query from configuration to configuration."""
+    def __len__(self) -> int:
+        return int(self._sweep.inputs.size)
 
-    def __init__(self, kin: Kinematics, joint: str | None = None, others: dict | None = None):
-        self.kin = kin
-        drawn = kin.drawn_inputs()
-        self.joint = joint or kin.mech.inputs[0].joint
-        if self.joint not in drawn:
-            raise InputError(f"{self.joint!r} is not a driven joint; driven joints are {sorted(drawn)}")
-        self.fixed = {**drawn, **(others or {})}
-        self.angular = kin.mech.joint(self.joint).kind == "R"
-        scale = 1.0 if self.angular else kin.size
-        self.h = kin.accuracy.step * scale
-        self.locate = kin.accuracy.locate * scale
-        self.q0 = drawn[self.joint]
-
-    def inputs(self, q):
-        return {**self.fixed, self.joint: q}
-
-    def reach(self, state, qa, qb):
-        """State at ``qb`` from the state at ``qa``, halving the step on failure (raises :class:`_Stuck`)."""
-        try:
-            return self.kin.positions(self.inputs(qb), state)
-        except SolveFailure as failure:
-            if abs(qb - qa) <= self.locate:
-                raise _Stuck(qa, qb, state, failure) from None
-            mid = 0.5 * (qa + qb)
-            return self.reach(self.reach(state, qa, mid), mid, qb)
-
-    def walk(self, state, qa, qb, h=None):
-        """Walk from ``qa`` to ``qb`` in pieces no longer than the resolution."""
-        h = h or self.h
-        n = max(1, math.ceil(abs(qb - qa) / h - 1e-9))
-        for k in range(1, n + 1):
-            state = self.reach(state, qa + (qb - qa) * (k - 1) / n, qa + (qb - qa) * k / n)
-        return state
-
-    def start(self, q):
-        """State at ``q`` reached from the drawn pose."""
-        try:
-            return self.walk(dict(self.kin.structure.drawn), self.q0, q)
-        except _Stuck as st:
-            f = st.failure
-            raise NumericalError(f"input {self.fmt(q)} is not reachable from the drawn pose ({self.fmt(self.q0)}): "
-                                 f"{f} near input {self.fmt(st.good)}", kind=f.kind, condition=f.condition,
-                                 where={**f.where, "input": st.good}) from None
-
-    def fmt(self, q) -> str:
-        return f"{math.degrees(q):.12g}°" if self.angular else f"{q:.12g}"
-
-
-#: The most steps a sweep takes (a grid of more would not fit in memory, nor finish).
-MAX_STEPS = 10_000_000
-
-
-def grid_size(start: float, stop: float, step: float) -> int:
-    """How many input values :func:`grid` makes; an InputError for values that are not finite or too many.
-
-    >>> grid_size(0.0, 1.0, 0.25)
-    5
-    """
-    for name, value in (("start", start), ("stop", stop), ("step", step)):
-        if not math.isfinite(value):
-            raise InputError(f"sweep {name} must be a finite number, got {value}")
-    if step <= 0:
-        raise InputError(f"sweep step must be > 0, got {step}")
-    count = int(math.floor(abs(stop - start) / step + 1e-9)) + 1
-    if count > MAX_STEPS:
-        raise InputError(f"a sweep from {start:g} to {stop:g} by {step:g} has {count:.3g} steps, more than "
-                         f"{MAX_STEPS:,}: use a larger step or a shorter range")
-    return count
-
-
-def grid(start: float, stop: float, step: float) -> list[float]:
-    """``start, start ± step, ..., stop`` (the last point is ``stop`` when within 1e-9 of a step)."""
-    grid_size(start, stop, step)
-    n = (stop - start) / step
-    count = int(math.floor(abs(n) + 1e-9))
-    sign = 1.0 if stop >= start else -1.0
-    pts = [start + sign * k * step for k in range(count + 1)]
-    if abs(pts[-1] - stop) > 1e-9 * max(1.0, abs(stop)):
-        pts.append(stop)
-    return pts
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            return [self[i] for i in range(*index.indices(len(self)))]
+        sw = self._sweep
+        i = range(len(self))[index]
+        return Step({**sw.fixed, sw.joint: float(sw.inputs[i])}, {c: float(sw.table[c][i]) for c in sw.columns},
+                    float(sw.residuals[i]), float(sw.conditions[i]), {v: float(a[i]) for v, a in sw.states.items()})
 
 
 def solve(mech: Mechanism, q: float | None = None, outputs=None, order: int = 0, method: str = "assur",
@@ -201,17 +151,20 @@ def solve(mech: Mechanism, q: float | None = None, outputs=None, order: int = 0,
     """One configuration at input ``q`` (default: the drawn pose), reached from the drawn pose by continuation.
 
     Raises :class:`~domes.errors.NumericalError` naming the group, joints and
-    input when the input cannot be reached or the derivatives are undetermined.
+    input when the input cannot be reached or the derivatives are
+    undetermined (or not determined to the accuracy's ``derivatives``).
+    Branch points passed on the way are in the step's ``passed``.
     """
     kin = Kinematics(mech, outputs, order, method, accuracy)
     cont = Continuation(kin, joint, others)
     q = cont.q0 if q is None else q
-    state = cont.start(q)
+    state, passed = _reach(kin, cont, q)
     try:
-        return kin.at(cont.inputs(q), state)
+        step = kin.at(cont.inputs(q), state)
     except SolveFailure as exc:
         raise NumericalError(f"{exc} (input {cont.fmt(q)})", kind=exc.kind, condition=exc.condition,
                              where={**exc.where, "input": q}) from None
+    return replace(step, passed=tuple(passed)) if passed else step
 
 
 def sweep(mech: Mechanism, start: float, stop: float, step: float | None = None, outputs=None, order: int = 0,
@@ -232,6 +185,99 @@ def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None, 
     """:func:`sweep` with a compiled query."""
     cont = Continuation(kin, joint, others)
     qs = grid(start, stop, step or cont.h)
+    if vectorizable(kin):
+        return _vector_sweep(kin, cont, qs, progress)
+    return _scalar_sweep(kin, cont, qs, progress)
+
+
+def _reach(kin, cont, q):
+    """The state at ``q`` reached from the drawn pose, and the branch points passed on the way."""
+    if not vectorizable(kin):
+        return cont.start(q), []
+    walker = Walker(cont, Compiled(kin))
+    pts, _ = fine_grid([q], cont.q0, cont.h)
+    w = walker.walk(dict(kin.structure.drawn), cont.q0, pts)
+    if w.stuck is not None:
+        raise cont.unreachable(q, w.stuck)
+    return w.state, w.branch_points
+
+
+# -- the vector path -------------------------------------------------------------------------
+
+
+def _vector_sweep(kin, cont, qs, progress) -> Sweep:
+    state, passed = _reach(kin, cont, qs[0])
+    walker = Walker(cont, Compiled(kin))
+    pts, marks = fine_grid(qs, qs[0], cont.h)
+    clock = Ticker(progress)
+    w = walker.walk(state, qs[0], pts, lambda i, n: clock.tick(lambda: f"step {i}/{n}: input {cont.fmt(pts[i - 1])}"))
+    reached = marks[marks < w.count]
+    values = {v: a[reached] for v, a in w.values.items()}
+    dead = list(w.branch_points)
+    status = Status.COMPLETE
+    if w.stuck is not None:
+        dead.append(dead_point(cont, w.stuck))
+        status = Status.STOPPED
+    inputs = pts[reached]
+    if inputs.size:
+        ends = {0: "starts"} if w.stuck is not None else {0: "starts", inputs.size - 1: "ends"}
+        for k, end in ends.items():
+            dead += walker.on_branch_point({v: float(a[k]) for v, a in values.items()}, float(inputs[k]), end, dead)
+        rates, accels, residuals, conditions = motion_many(kin, values, kin.order)
+        table = {c: np.array(a, dtype=float) for c, a in outputs_many(kin, values, rates, accels, kin.order).items()}
+        dead += _refuse(kin, cont, inputs, table, conditions, values, dead)
+    else:
+        table = {c: np.zeros(0) for c in kin.output_values(state, _nan(state), _nan(state), kin.order)}
+        residuals = conditions = np.zeros(0)
+    return _result(kin, cont, qs, inputs, table, residuals, conditions, values, dead, status, passed)
+
+
+def _refuse(kin, cont, inputs, table, conditions, values, known) -> list[DeadPoint]:
+    """Set to NaN the derivatives the condition number cannot bound; a singular dead point for each stretch."""
+    order, tol = kin.order, kin.accuracy.derivatives
+    if order == 0:
+        return []
+    bounds = error_bounds(conditions, order)
+    bad_any = np.zeros(inputs.size, dtype=bool)
+    for k in range(1, order + 1):
+        bad = ~((conditions <= SINGULAR_CONDITION) & (bounds[k] <= tol))
+        bad_any |= bad
+        for c in table:
+            if len(c) - len(c.rstrip("'")) >= k:
+                table[c][bad] = np.nan
+    out = []
+    spacing = float(np.max(np.abs(np.diff(inputs)))) if inputs.size > 1 else cont.h
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], bad_any.astype(np.int8), [0]))))
+    for lo, hi in zip(edges[::2], edges[1::2]):
+        k = lo + int(np.argmax(conditions[lo:hi]))
+        q = float(inputs[k])
+        if any(abs(d.input - q) <= spacing * (hi - lo + 1) + d.within for d in known):
+            continue
+        state = {v: float(a[k]) for v, a in values.items()}
+        group = _worst_group(kin, state)
+        cond = float(conditions[k])
+        what = "velocities" if not cond <= SINGULAR_CONDITION or error_bounds(cond, 1)[1] > tol else "accelerations"
+        out.append(DeadPoint(q, spacing / 2, DeadPointKind.SINGULAR, group.label, group.joints,
+                             f"{group.label}: near input {cont.fmt(q)} (joints {', '.join(group.joints)}) the condition "
+                             f"number reaches {cond:.3g}, so the {what} are known only to "
+                             f"{error_bounds(cond, order)[order]:.2g}, more than the accuracy's {tol:g}: they are "
+                             f"refused (NaN) at {hi - lo} steps; a singular point is near"))
+    return out
+
+
+def _result(kin, cont, qs, inputs, table, residuals, conditions, states, dead, status, passed) -> Sweep:
+    dead.sort(key=lambda d: (d.input - qs[0]) * (1 if qs[-1] >= qs[0] else -1))
+    reach = (float(np.min(inputs)), float(np.max(inputs))) if inputs.size else (qs[0], qs[0])
+    fixed = {j: v for j, v in cont.fixed.items() if j != cont.joint}
+    return Sweep(cont.joint, inputs, table, residuals, conditions, tuple(dead), status, reach, len(kin.groups),
+                 len(kin.structure.groups), kin.equations, kin.accuracy, tuple(table), cont.angular, fixed, states,
+                 tuple(passed))
+
+
+# -- the scalar path (groups solved by Newton's method) ----------------------------------------------
+
+
+def _scalar_sweep(kin, cont, qs, progress) -> Sweep:
     state = cont.start(qs[0])
     steps: list[Step] = []
     dead: list[DeadPoint] = []
@@ -242,48 +288,43 @@ def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None, 
         clock.tick(lambda: f"step {number}/{len(qs)}: input {cont.fmt(q)}")
         try:
             state = cont.walk(state, qa, q)
-        except _Stuck as st:
-            dead.append(_dead_point(kin, cont, st))
+        except Stuck as st:
+            dead.append(dead_point(cont, st))
             status = Status.STOPPED
             break
         qa = q
         steps.append(_step(kin, cont, q, state, dead))
     _refine_peaks(kin, cont, steps, dead)
-    dead.sort(key=lambda d: (d.input - qs[0]) * (1 if stop >= start else -1))
-    reached = [s.inputs[cont.joint] for s in steps]
-    reach = (min(reached), max(reached)) if reached else (qs[0], qs[0])
-    columns = tuple(steps[0].values) if steps else ()
-    return Sweep(cont.joint, tuple(steps), tuple(dead), status, reach, len(kin.groups), len(kin.structure.groups),
-                 kin.equations, kin.accuracy, columns, cont.angular)
+    columns = tuple(steps[0].values) if steps else tuple(kin.output_values(state, _nan(state), _nan(state), kin.order))
+    inputs = np.array([s.inputs[cont.joint] for s in steps], dtype=float)
+    table = {c: np.array([s.values[c] for s in steps], dtype=float) for c in columns}
+    states = {v: np.array([s.state[v] for s in steps], dtype=float) for v in (steps[0].state if steps else {})}
+    residuals = np.array([s.residual for s in steps], dtype=float)
+    conditions = np.array([s.condition for s in steps], dtype=float)
+    return _result(kin, cont, qs, inputs, table, residuals, conditions, states, dead, status, ())
 
 
 def _step(kin, cont, q, state, dead) -> Step:
     try:
         return kin.at(cont.inputs(q), state)
-    except SolveFailure as f:  # singular Jacobian exactly at a grid point: positions only
-        dead.append(DeadPoint(q, 4 * math.sqrt(2.2e-16) * (1.0 if cont.angular else kin.size), DeadPointKind.SINGULAR,
-                              f.group.label, f.group.joints,
-                              f"{f} (input {cont.fmt(q)}); derivatives set to NaN"))
-        step = kin.at(cont.inputs(q), state, order=0)
-        values = dict(step.values)
+    except SolveFailure as f:  # singular (or too ill-conditioned) at a grid point: the derivatives it can give
+        if f.kind is not FailureKind.SINGULAR:
+            raise
         full = kin.output_values(state, _nan(state), _nan(state), kin.order)
-        for k, v in full.items():
-            values.setdefault(k, v)
-        return Step(step.inputs, {k: values[k] for k in full}, step.residual, math.inf, state)
+        for order in range(kin.order - 1, -1, -1):
+            try:
+                step = kin.at(cont.inputs(q), state, order=order)
+                break
+            except SolveFailure:
+                continue
+        dead.append(DeadPoint(q, 4 * math.sqrt(2.2e-16) * (1.0 if cont.angular else kin.size), DeadPointKind.SINGULAR,
+                              f.group.label, f.group.joints, f"{f} (input {cont.fmt(q)}); derivatives set to NaN"))
+        values = {k: step.values.get(k, v) for k, v in full.items()}
+        return Step(step.inputs, values, step.residual, math.inf if order == 0 else step.condition, state)
 
 
 def _nan(state):
     return {k: math.nan for k in state}
-
-
-def _dead_point(kin, cont, st: _Stuck) -> DeadPoint:
-    f = st.failure
-    kind = {"undetermined": DeadPointKind.UNDETERMINED, "jump": DeadPointKind.DISCONTINUITY}.get(f.kind, DeadPointKind.LIMIT)
-    q = 0.5 * (st.good + st.bad)
-    what = {"limit": "a limit (dead) position", "undetermined": "the pose is undetermined there",
-            "discontinuity": "the pose would jump there (a bifurcation)"}[kind]
-    msg = f"{f}; the input cannot pass {cont.fmt(q)} (last solved {cont.fmt(st.good)}): {what}"
-    return DeadPoint(q, abs(st.bad - st.good) / 2, kind, f.group.label, f.group.joints, msg)
 
 
 def _inverse_condition(cont, q, near):
@@ -339,7 +380,7 @@ def _refine_peaks(kin, cont, steps, dead):
                     a, x1, f1 = x1, x2, f2
                     x2 = a + g * (b - a)
                     f2 = _inverse_condition(fine, x2, near)
-        except (_Stuck, SolveFailure) as exc:
+        except (Stuck, SolveFailure) as exc:
             report(q, abs(near[2].inputs[cont.joint] - near[0].inputs[cont.joint]) / 2, group, f"{group.label}: condition number {c:.3g} peaks near input "
                    f"{cont.fmt(q)} (joints {', '.join(group.joints)}); a singular point is likely there but "
                    f"could not be located ({exc})")

@@ -1,0 +1,241 @@
+"""The compiled query on arrays of configurations of one mechanism: the sweep's vector path.
+
+:func:`positions_many` places a mechanism of drivers and dyads at a whole
+array of input values with the kernel (:mod:`domes.motion.planar.kernel`)
+and turns the link placements into the query's variables (each rotation
+kept continuous along the array); :func:`motion_many` assembles every
+group's loop equations on the arrays and solves them as a stack of small
+systems for velocities and accelerations, with every configuration's
+loop-closure residual and condition number, as
+:meth:`~domes.motion.planar.query.Kinematics.motion` does for one. Where a
+configuration cannot be assembled, is undetermined, or would jump, the
+first such index is returned; the sweep hands that one interval to the
+scalar code, which locates the dead point.
+
+>>> import math, numpy as np
+>>> from domes.motion.planar.examples import four_bar
+>>> from domes.motion.planar.query import Kinematics
+>>> kin = Kinematics(four_bar(), outputs=["angle:rocker"], order=1)
+>>> run = positions_many(Compiled(kin), "A", np.radians([0.0, 30.0, 60.0]), kin.structure.drawn)
+>>> rates, accels, residual, condition = motion_many(kin, run.values, 1)
+>>> angles = outputs_many(kin, run.values, rates, accels, 1)["angle:rocker"]
+>>> run.failure is None, [round(math.degrees(float(x)), 6) for x in angles], bool(residual.max() < 1e-15)
+(True, [78.463041, 70.546922, 75.228684], True)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from domes.motion.planar.kernel import Program
+from domes.motion.planar.query import JUMP, sign_key
+from domes.motion.planar.structure import evaluate
+
+
+class Compiled:
+    """A query with its kernel program and the mechanism's own geometry, compiled once per sweep."""
+
+    def __init__(self, kin):
+        self.kin = kin
+        self.program = Program(kin)
+        self.geometry = self.program.geometry()
+
+
+@dataclass
+class Run:
+    """Positions on an array of inputs: ``values`` (variable -> array), the dyads' ``roots``, the first failure.
+
+    ``failure`` is ``(index, kind, group)`` with ``kind`` ``limit``,
+    ``undetermined`` or ``jump``; values at and after it are not meaningful.
+    """
+
+    values: dict
+    roots: dict
+    failure: tuple | None
+
+    def state(self, index: int) -> dict:
+        """The scalar state (variable -> value) of one configuration."""
+        return {v: (float(a[index]) if isinstance(a, np.ndarray) else a) for v, a in self.values.items()}
+
+
+def positions_many(compiled: Compiled, joint: str, qs, start: dict, others: dict | None = None) -> Run:
+    """Every variable of the needed groups at inputs ``qs`` of ``joint``, continuing from the state ``start``.
+
+    ``start`` is the configuration the array continues from (rotations stay
+    within half a turn of it and of each other); its ``sign:`` entries are
+    the dyads' assembly modes. ``others`` holds the other inputs' values.
+    """
+    kin = compiled.kin
+    qs = np.asarray(qs, dtype=float)
+    n = qs.size
+    s = kin.structure
+    groups = [g for g in kin.groups if g.unknowns]
+    signs = {g.index: start[sign_key(g)] for g in groups if sign_key(g) in start}
+    fixed = {j: (others or {}).get(j, start[v]) for j, v in s.input_vars.items() if j != joint}
+    pose = compiled.program.poses(compiled.geometry, qs, joint, fixed, signs)
+    values: dict = dict(start)
+    for j, v in s.input_vars.items():
+        values[v] = qs if j == joint else float(fixed[j])
+    first: tuple | None = None
+
+    def fail(mask, kind, group):
+        nonlocal first
+        mask = np.broadcast_to(mask, (n,))
+        if np.any(mask):
+            k = int(np.argmax(mask))
+            if first is None or k < first[0]:
+                first = (k, kind, group)
+
+    for g in groups:
+        fail(pose.unassembled[g.index], "limit", g)
+        fail(pose.undetermined[g.index], "undetermined", g)
+        for link in g.links:
+            expr = s.rotations[link]
+            var, coeff = next(((v, c) for v, c in expr.terms if v in g.unknowns), (None, 0.0))
+            if var is None:
+                continue
+            rest = sum(c * values[v] for v, c in expr.terms if v != var) + expr.const
+            new = (np.angle(pose.links[link][0]) - rest) / coeff
+            values[var] = np.unwrap(np.concatenate(([start[var]], np.broadcast_to(new, (n,)))))[1:]
+        for v in g.unknowns:
+            if v.startswith("s:"):
+                values[v] = np.broadcast_to(pose.slides[v[2:]], (n,)).astype(float)
+        for v in g.unknowns:
+            path = np.concatenate(([start[v]], values[v]))
+            change = np.abs(np.diff(path)) / (1.0 if v.startswith("rot:") else kin.size)
+            fail(~(change <= JUMP), "jump", g)
+    roots = {i: np.broadcast_to(r, (n,)) for i, r in pose.root.items()}
+    return Run(values, roots, first)
+
+
+def _stack(kin, g, values, rates=None):
+    """The group's residuals ``(n, m)``, Jacobian ``(n, m, u)`` and the loop columns of every variable."""
+    col = {v: k for k, v in enumerate(g.unknowns)}
+    parts, J, loops = [], None, []
+    for i, loop in enumerate(g.loops):
+        a, cols, dcols = evaluate(loop, values, rates, lib=np)
+        parts += [a[0], a[1]]
+        loops.append((cols, dcols))
+    n = max(np.size(p) for p in parts)
+    A = np.stack([np.broadcast_to(p, (n,)) for p in parts], axis=-1)
+    J = np.zeros((n, g.equations, len(g.unknowns)))
+    for i, (cols, _) in enumerate(loops):
+        for v, c in cols.items():
+            if v in col:
+                J[:, 2 * i, col[v]] = c[0]
+                J[:, 2 * i + 1, col[v]] = c[1]
+    return A, J, loops
+
+
+def motion_many(kin, values: dict, order: int):
+    """Rates and accelerations (variable -> array), residuals and condition numbers of every configuration.
+
+    Rates and accelerations are NaN where a group's Jacobian is singular;
+    ``residual`` and ``condition`` are the worst over the groups, as in
+    :meth:`~domes.motion.planar.query.Kinematics.motion`.
+    """
+    n = max((np.size(a) for a in values.values()), default=1)
+    ins = kin.structure.input_vars
+    rates = {v: kin.inputs[j].speed for j, v in ins.items()}
+    accels = {v: kin.inputs[j].acceleration for j, v in ins.items()}
+    residual = np.zeros(n)
+    condition = np.ones(n)
+    for g in kin.groups:
+        if not g.unknowns:
+            continue
+        A, J, loops = _stack(kin, g, values)
+        residual = np.maximum(residual, np.max(np.abs(A), axis=-1) / kin.size)
+        scale = np.array([1.0 / kin.size if v.startswith("rot:") else 1.0 for v in g.unknowns])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cond = np.linalg.cond(J * scale)
+        cond = np.where(np.isfinite(cond), cond, np.inf)
+        condition = np.maximum(condition, cond)
+        if order == 0:
+            continue
+        ok = np.isfinite(cond)
+        safe = np.where(ok[:, None, None], J, np.eye(len(g.unknowns)))
+        col = {v: k for k, v in enumerate(g.unknowns)}
+        rhs = np.zeros((n, g.equations))
+        for i, (cols, _) in enumerate(loops):
+            for v, c in cols.items():
+                if v not in col:
+                    rhs[:, 2 * i] -= c[0] * rates[v]
+                    rhs[:, 2 * i + 1] -= c[1] * rates[v]
+        sol = np.linalg.solve(safe, rhs[..., None])[..., 0]
+        sol[~ok] = np.nan
+        for k, v in enumerate(g.unknowns):
+            rates[v] = sol[:, k]
+        if order == 1:
+            continue
+        _, _, loops2 = _stack(kin, g, values, rates)
+        rhs = np.zeros((n, g.equations))
+        for i, (cols, dcols) in enumerate(loops2):
+            for v, c in cols.items():
+                if v not in col:
+                    rhs[:, 2 * i] -= c[0] * accels[v]
+                    rhs[:, 2 * i + 1] -= c[1] * accels[v]
+            for v, c in dcols.items():
+                rhs[:, 2 * i] -= c[0] * rates[v]
+                rhs[:, 2 * i + 1] -= c[1] * rates[v]
+        sol = np.linalg.solve(safe, rhs[..., None])[..., 0]
+        sol[~ok] = np.nan
+        for k, v in enumerate(g.unknowns):
+            accels[v] = sol[:, k]
+    return rates, accels, residual, condition
+
+
+def outputs_many(kin, values, rates, accels, order: int) -> dict:
+    """The query's output columns (name -> array), as :meth:`~domes.motion.planar.query.Kinematics.output_values`."""
+    out = {}
+    s, mech = kin.structure, kin.mech
+    n = max((np.size(a) for a in values.values()), default=1)
+    for o in kin.outputs:
+        if o.kind == "angle":
+            expr = s.rotations[o.target]
+            ref = 0.0 if o.target == mech.ground else mech.reference_angle(o.target)
+            comps = [[ref + expr.value(values)]]
+            if order >= 1:
+                comps.append([expr.rate(rates)])
+            if order >= 2:
+                comps.append([expr.rate(accels)])
+        elif o.kind == "slide":
+            v = s.input_vars.get(o.target, f"s:{o.target}")
+            comps = [[values[v]], [rates.get(v, 0.0)], [accels.get(v, 0.0)]][: order + 1]
+        else:
+            a, cols, dcols = evaluate(kin._output_paths[o.target], values, rates if order >= 2 else None, lib=np)
+            comps = [list(a)]
+            if order >= 1:
+                comps.append([sum(c[k] * rates[v] for v, c in cols.items()) for k in (0, 1)])
+            if order >= 2:
+                comps.append([sum(c[k] * accels[v] for v, c in cols.items())
+                              + sum(c[k] * rates[v] for v, c in dcols.items()) for k in (0, 1)])
+        for k, comp in enumerate(comps):
+            for name, val in zip(o.columns(), comp):
+                out[name + "'" * k] = np.broadcast_to(np.asarray(val, dtype=float), (n,))
+    return out
+
+
+def fine_grid(qs, q_from: float, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """The grid a sweep walks: from ``q_from`` through every point of ``qs`` in pieces no longer than ``h``.
+
+    Returns the walked points and the index in them of each point of
+    ``qs`` (``q_from`` is walked only when it is the first point of ``qs``).
+
+    >>> pts, at = fine_grid([0.0, 1.0], 0.0, 0.4)
+    >>> [round(float(x), 6) for x in pts], [int(i) for i in at]
+    ([0.0, 0.333333, 0.666667, 1.0], [0, 3])
+    """
+    qs = np.asarray(qs, dtype=float)
+    if qs.size == 0:
+        return qs, np.zeros(0, dtype=int)
+    prev = np.concatenate(([q_from], qs[:-1]))
+    span = qs - prev
+    pieces = np.ceil(np.abs(span) / h - 1e-9).astype(np.int64)
+    pieces = np.where(span == 0, 0, np.maximum(pieces, 1))
+    pieces[0] = max(pieces[0], 1)
+    owner = np.repeat(np.arange(qs.size), pieces)
+    offset = np.arange(owner.size) - np.repeat(np.cumsum(pieces) - pieces, pieces) + 1
+    pts = prev[owner] + span[owner] * offset / pieces[owner]
+    return pts, np.cumsum(pieces) - 1

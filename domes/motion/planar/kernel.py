@@ -1,0 +1,519 @@
+"""The compiled kernel: closed-form poses and motion of dyad mechanisms on arrays.
+
+A :class:`Program` is compiled once from a
+:class:`~domes.motion.planar.query.Kinematics` whose groups are drivers and
+dyads (RRR, RPR, RRP, PRP, RPP: seed 002, chapter 2, and the digest's §F.1)
+and evaluated on arrays: many input values of one mechanism, or many
+mechanisms of one topology (a :class:`Geometry` of arrays of joint
+coordinates) over many inputs at once. Points are complex numbers ``x + iy``
+and a link's rotation from its drawn pose is a unit complex number, so a
+pose costs a few dozen arithmetic operations per configuration and no
+trigonometry beyond the input's own.
+
+Each link is placed by its rotation ``R`` and one *anchor*: its drawn point
+``P`` now at ``W``; any drawn point ``p`` of it is at ``W + R·(p − P)``.
+Velocities and accelerations follow from the dyads' joint constraints,
+solved (2 × 2) for the two unknown rates of each dyad. Each dyad also
+reports its *root*: the normalised discriminant of its closed form (for an
+RRR dyad the sine of the angle between its links, the transmission angle
+of a four-bar), which is zero exactly where its Jacobian is singular.
+
+>>> import numpy as np
+>>> from domes.motion.planar.examples import four_bar
+>>> from domes.motion.planar.query import Kinematics
+>>> prog = Program(Kinematics(four_bar(), outputs=["angle:rocker"]))
+>>> geom = prog.geometry()
+>>> pose = prog.poses(geom, np.radians([0.0, 30.0, 60.0]))
+>>> [round(float(np.degrees(x)), 6) for x in prog.outputs(geom, pose)["angle:rocker"]]
+[78.463041, 70.546922, 75.228684]
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from domes.errors import InputError
+from domes.motion.planar.dyads import ASSEMBLY_SLACK
+
+SIGNED = ("RRR", "RPR", "RRP")
+
+
+def vectorizable(kin) -> bool:
+    """Whether every group the query needs is a driver or a dyad with a closed form."""
+    return all(g.index in kin.plans for g in kin.groups if g.unknowns) and \
+        all(len(g.links) == 1 or g.index in kin.plans for g in kin.groups)
+
+
+def _c(p) -> complex:
+    return complex(p[0], p[1])
+
+
+def _cross(p, q):
+    """``Im(conj(p)·q)``: the cross product of two complex vectors."""
+    return p.real * q.imag - p.imag * q.real
+
+
+def _dot(p, q):
+    return p.real * q.real + p.imag * q.imag
+
+
+def _unit(z):
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return z / np.abs(z)
+
+
+@dataclass
+class Geometry:
+    """Drawn-pose data of one mechanism (numbers) or of ``M`` mechanisms of one topology (arrays ``(M, 1)``).
+
+    ``at``: joints and coupler points (complex); ``direction``: each P joint's
+    slide direction (unit complex); ``s0``: its drawn slide coordinate;
+    ``reference``: each link's reference angle; ``drawn``: each input's drawn
+    value; ``sign``: each signed dyad's assembly mode (by group index; 0 where
+    the drawn pose is on a dead point and the mode is ambiguous).
+    """
+
+    at: dict
+    direction: dict
+    s0: dict
+    reference: dict
+    drawn: dict
+    sign: dict
+    count: int | None = None
+
+
+@dataclass
+class Poses:
+    """Link placements, slides and the dyads' diagnostics on an array of configurations.
+
+    ``links[name] = (R, W, P)``; ``slides[joint]``; ``unassembled`` and
+    ``undetermined`` are masks by group index, ``root`` the dyads' normalised
+    discriminants, ``closure`` each dyad's loop-closure error (absolute).
+    """
+
+    links: dict
+    slides: dict
+    inputs: dict
+    shape: tuple = ()
+    unassembled: dict = field(default_factory=dict)
+    undetermined: dict = field(default_factory=dict)
+    root: dict = field(default_factory=dict)
+    closure: dict = field(default_factory=dict)
+
+    def world(self, geom: Geometry, link: str, name: str):
+        """World position of the drawn point (joint or coupler point) ``name`` of ``link``."""
+        R, W, P = self.links[link]
+        return W + R * (geom.at[name] - P)
+
+    @property
+    def failed(self):
+        """Configurations where some dyad cannot be assembled or is undetermined (a boolean array, or False)."""
+        out = False
+        for mask in list(self.unassembled.values()) + list(self.undetermined.values()):
+            out = out | mask
+        return out
+
+
+@dataclass
+class Motion:
+    """Angular and linear rates of each link (``w``, ``V`` at its anchor) and slide rates, at one derivative level."""
+
+    w: dict
+    V: dict
+    slide: dict
+
+
+class Program:
+    """A compiled :class:`~domes.motion.planar.query.Kinematics` of drivers and dyads, evaluated on arrays."""
+
+    def __init__(self, kin):
+        if not vectorizable(kin):
+            raise InputError(f"{kin.mech.name}: the kernel evaluates drivers and dyads only; groups "
+                             f"{[g.label for g in kin.groups if g.index not in kin.plans and len(g.links) > 1]} "
+                             "need Newton's method")
+        self.kin = kin
+        mech = kin.mech
+        self.mech = mech
+        self.ground = mech.ground
+        self.steps = []
+        for g in kin.groups:
+            if g.index in kin.plans:
+                plan = kin.plans[g.index]
+                ka = next(x for x in plan.a.links if x != plan.l1)
+                kc = next(x for x in plan.c.links if x != plan.l2)
+                self.steps.append(("dyad", g, plan, ka, kc))
+            else:
+                j = mech.joint(g.joints[0])
+                link = g.links[0]
+                known = next(x for x in j.links if x != link)
+                self.steps.append(("driver", g, j, link, known))
+        self.inputs = {i.joint: i for i in mech.inputs}
+
+    # -- geometry ------------------------------------------------------------------------
+
+    def geometry(self, coordinates=None, directions=None) -> Geometry:
+        """The drawn-pose data: the mechanism's own, or with ``coordinates`` (name -> ``(M, 2)``) replaced.
+
+        ``directions`` (P joint -> ``(M,)`` angles, rad) replaces slide
+        directions. Names not given keep the mechanism's values.
+        """
+        mech = self.mech
+        count = None
+        at = {j.name: _c(j.at) for j in mech.joints}
+        at.update({p.name: _c(p.at) for p in mech.points})
+        for name, value in (coordinates or {}).items():
+            if name not in at:
+                raise InputError(f"coordinates: {name!r} is not a joint or point of {mech.name}; "
+                                 f"names are {sorted(at)}")
+            arr = np.asarray(value, dtype=float)
+            if arr.ndim != 2 or arr.shape[1] != 2:
+                raise InputError(f"coordinates[{name!r}] must have shape (M, 2), got {arr.shape}")
+            if not np.all(np.isfinite(arr)):
+                raise InputError(f"coordinates[{name!r}]: every coordinate must be a finite number")
+            count = _count(count, arr.shape[0], name)
+            at[name] = (arr[:, 0] + 1j * arr[:, 1])[:, None]
+        direction, s0 = {}, {}
+        for j in mech.joints:
+            if j.kind != "P":
+                continue
+            angle = j.direction
+            if directions and j.name in directions:
+                angle = np.asarray(directions[j.name], dtype=float)
+                count = _count(count, angle.shape[0], j.name)
+                angle = angle[:, None]
+            direction[j.name] = np.exp(1j * angle) if isinstance(angle, np.ndarray) else complex(math.cos(angle), math.sin(angle))
+            s0[j.name] = _dot(at[j.name] - _c(j.slide_origin), direction[j.name])
+        for name in directions or {}:
+            if name not in direction:
+                raise InputError(f"directions: {name!r} is not a P joint of {mech.name}")
+        given = dict(mech.link_angles)
+        reference = {}
+        for link in mech.links:
+            if link == mech.ground:
+                reference[link] = 0.0
+            elif link in given:
+                reference[link] = given[link]
+            else:
+                reference[link] = _reference(at, [j.name for j in mech.joints_of(link)])
+        drawn = {}
+        for j, i in self.inputs.items():
+            joint = mech.joint(j)
+            if joint.kind == "P":
+                drawn[j] = s0[j]
+            else:
+                a, b = joint.links
+                if mech.ground in (a, b):
+                    a, b = mech.ground, (b if a == mech.ground else a)
+                drawn[j] = reference[b] - reference[a]
+        geom = Geometry(at, direction, s0, reference, drawn, {}, count)
+        for kind, g, plan, *_ in self.steps:
+            if kind == "dyad" and plan.kind in SIGNED:
+                geom.sign[g.index] = _drawn_sign(plan, geom)
+        return geom
+
+    # -- positions -----------------------------------------------------------------------
+
+    def poses(self, geom: Geometry, q, joint: str | None = None, others: dict | None = None,
+              signs: dict | None = None) -> Poses:
+        """Place every needed link at the input values ``q`` of ``joint`` (default: the first input).
+
+        Other inputs keep their drawn values (or ``others``); ``signs`` (group
+        index -> ±1) overrides the drawn assembly modes.
+        """
+        joint = joint or self.mech.inputs[0].joint
+        inputs = {j: (q if j == joint else (others or {}).get(j, geom.drawn[j])) for j in self.inputs}
+        shape = np.broadcast_shapes(np.shape(q), (geom.count, 1) if geom.count is not None else ())
+        pose = Poses({self.ground: (1.0 + 0j, 0j, 0j)}, {}, inputs, shape)
+        for kind, g, *rest in self.steps:
+            if kind == "driver":
+                self._driver(geom, pose, *rest)
+            else:
+                self._dyad(geom, pose, g, *rest, (signs or {}).get(g.index, geom.sign.get(g.index, 1.0)))
+        return pose
+
+    def _driver(self, geom, pose, j, link, known):
+        q = np.asarray(pose.inputs[j.name], dtype=float)
+        R, _, _ = pose.links[known]
+        X = pose.world(geom, known, j.name)
+        if j.kind == "R":
+            a, b = j.links
+            if self.ground in (a, b):
+                b = b if a == self.ground else a
+            turn = np.exp(1j * (q - geom.drawn[j.name]))
+            pose.links[link] = (R * (turn if link == b else np.conj(turn)), X, geom.at[j.name])
+        else:
+            pose.slides[j.name] = q
+            pose.links[link] = (R, X + _sigma(j, known) * (q - geom.s0[j.name]) * R * geom.direction[j.name],
+                                geom.at[j.name])
+
+    def _dyad(self, geom, pose, g, plan, ka, kc, sign):
+        a, b, c = plan.a, plan.b, plan.c
+        at = geom.at
+        A, C = pose.world(geom, ka, a.name), pose.world(geom, kc, c.name)
+        kind = plan.kind
+        bad = undetermined = False
+        root = None
+        if kind == "RRR":
+            l1, l2 = np.abs(at[b.name] - at[a.name]), np.abs(at[b.name] - at[c.name])
+            D = C - A
+            d = np.abs(D)
+            undetermined = d == 0.0
+            near = np.where(d > l1 + l2, d - (l1 + l2), np.abs(l1 - l2) - d)
+            bad = ((d > l1 + l2) | (d < np.abs(l1 - l2))) & (near > ASSEMBLY_SLACK * 64 * np.maximum(np.maximum(d, l1), l2))
+            prod = np.maximum((l1 + d + l2) * (l1 + d - l2) * (l1 - d + l2) * (-l1 + d + l2), 0.0)
+            rp = np.sqrt(prod)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                B = A + D * (l1 * l1 + d * d - l2 * l2 + 1j * sign * rp) / (2 * d * d)
+                root = rp / (2 * l1 * l2)
+            R1, R2 = _unit((B - A) / (at[b.name] - at[a.name])), _unit((B - C) / (at[b.name] - at[c.name]))
+            pose.links[plan.l1] = (R1, A, at[a.name])
+            pose.links[plan.l2] = (R2, C, at[c.name])
+            pose.closure[g.index] = np.abs(C + R2 * (at[b.name] - at[c.name]) - B)
+        elif kind == "RPR":
+            guide_first = b.links[0] == plan.l1
+            (gp, Gp), (sp, Sp) = ((a, A), (c, C)) if guide_first else ((c, C), (a, A))
+            u0 = geom.direction[b.name]
+            rel0 = at[sp.name] - at[gp.name]
+            e, t0 = _cross(u0, rel0), _dot(u0, rel0)
+            D = Sp - Gp
+            r = np.abs(D)
+            diff = (r - np.abs(e)) * (r + np.abs(e))
+            bad = diff < -ASSEMBLY_SLACK * r * r * 64
+            undetermined = r == 0.0
+            t = sign * np.sqrt(np.maximum(diff, 0.0))
+            with np.errstate(invalid="ignore", divide="ignore"):
+                R = D / ((t + 1j * e) * u0)
+                root = np.abs(t) / r
+            R = _unit(R)
+            pose.slides[b.name] = geom.s0[b.name] + t - t0
+            pose.links[plan.l1] = (R, A, at[a.name])
+            pose.links[plan.l2] = (R, C, at[c.name])
+            slid = Gp + R * (at[b.name] - at[gp.name]) + (t - t0) * R * u0
+            pose.closure[g.index] = np.abs(Sp + R * (at[b.name] - at[sp.name]) - slid)
+        elif kind == "RRP":
+            R2 = pose.links[kc][0]
+            u = R2 * geom.direction[c.name]
+            p0 = C + R2 * (at[b.name] - at[c.name])
+            w = p0 - A
+            l1 = np.abs(at[b.name] - at[a.name])
+            h = np.abs(_cross(u, w))
+            diff = (l1 - h) * (l1 + h)
+            bad = diff < -ASSEMBLY_SLACK * np.maximum(l1, h) ** 2 * 64
+            rp = np.sqrt(np.maximum(diff, 0.0))
+            tau = -_dot(u, w) + sign * rp
+            B = p0 + tau * u
+            root = rp / l1
+            R1 = _unit((B - A) / (at[b.name] - at[a.name]))
+            sg = _sigma(c, kc)
+            pose.slides[c.name] = geom.s0[c.name] + sg * tau
+            pose.links[plan.l1] = (R1, A, at[a.name])
+            pose.links[plan.l2] = (R2, C + tau * u, at[c.name])
+            pose.closure[g.index] = np.abs(A + R1 * (at[b.name] - at[a.name]) - B)
+        elif kind == "PRP":
+            ends = []
+            for joint, link, known, X in ((a, plan.l1, ka, A), (c, plan.l2, kc, C)):
+                Rk = pose.links[known][0]
+                ends.append((X + Rk * (at[b.name] - at[joint.name]), Rk * geom.direction[joint.name], Rk))
+            (p1, u1, Ra), (p2, u2, Rc) = ends
+            det = -_cross(u1, u2)
+            undetermined = np.abs(det) <= 1e-15
+            safe = np.where(undetermined, 1.0, det)
+            rhs = p2 - p1
+            t1, t2 = _cross(rhs, -u2) / safe, _cross(u1, rhs) / safe
+            pose.slides[a.name] = geom.s0[a.name] + _sigma(a, ka) * t1
+            pose.slides[c.name] = geom.s0[c.name] + _sigma(c, kc) * t2
+            pose.links[plan.l1] = (Ra, A + t1 * u1, at[a.name])
+            pose.links[plan.l2] = (Rc, C + t2 * u2, at[c.name])
+            pose.closure[g.index] = np.abs(p1 + t1 * u1 - p2 - t2 * u2)
+        else:  # RPP: l1 pinned at a, b the inner P, c the outer P
+            Rk = pose.links[kc][0]
+            X1 = A + Rk * (at[b.name] - at[a.name])
+            u_in = Rk * geom.direction[b.name]
+            u_out = Rk * geom.direction[c.name]
+            rhs = Rk * (at[b.name] - at[c.name]) + C - X1
+            det = -_cross(u_in, u_out)
+            undetermined = np.abs(det) <= 1e-15
+            safe = np.where(undetermined, 1.0, det)
+            t_in, t_out = _cross(rhs, -u_out) / safe, _cross(u_in, rhs) / safe
+            pose.slides[b.name] = geom.s0[b.name] + (1.0 if b.links[0] == plan.l1 else -1.0) * t_in
+            pose.slides[c.name] = geom.s0[c.name] + _sigma(c, kc) * t_out
+            pose.links[plan.l1] = (Rk, A, at[a.name])
+            pose.links[plan.l2] = (Rk, C + t_out * u_out, at[c.name])
+            pose.closure[g.index] = np.abs(X1 + t_in * u_in - (C + Rk * (at[b.name] - at[c.name]) + t_out * u_out))
+        pose.unassembled[g.index] = np.asarray(bad)
+        pose.undetermined[g.index] = np.asarray(undetermined) & ~np.asarray(bad)
+        if root is not None:
+            pose.root[g.index] = root
+
+    # -- velocities and accelerations -----------------------------------------------------------
+
+    def motion(self, geom: Geometry, pose: Poses, order: int = 1, speeds: dict | None = None,
+               accelerations: dict | None = None) -> list[Motion]:
+        """Rates (``order`` 1) and accelerations (``order`` 2) of every link and slide: ``[velocity, acceleration]``.
+
+        Input rates are the mechanism's (``Input.speed``, ``Input.acceleration``) unless given.
+        """
+        levels: list[Motion] = []
+        given = [{j: (speeds or {}).get(j, i.speed) for j, i in self.inputs.items()},
+                 {j: (accelerations or {}).get(j, i.acceleration) for j, i in self.inputs.items()}]
+        for level in range(1, order + 1):
+            m = Motion({self.ground: 0.0}, {self.ground: 0j}, {})
+            for kind, g, *rest in self.steps:
+                if kind == "driver":
+                    self._driver_motion(geom, pose, levels, m, given[level - 1], *rest)
+                else:
+                    self._dyad_motion(geom, pose, levels, m, *rest)
+            levels.append(m)
+        return levels
+
+    def _driver_motion(self, geom, pose, levels, m, given, j, link, known):
+        X = pose.world(geom, known, j.name)
+        rate = given[j.name]
+        V = _point(pose, levels, m.w[known], m.V[known], known, X)
+        if j.kind == "R":
+            a, b = j.links
+            if self.ground in (a, b):
+                b = b if a == self.ground else a
+            m.w[link] = m.w[known] + (rate if link == b else -rate)
+            m.V[link] = V
+        else:
+            m.slide[j.name] = rate
+            m.w[link] = m.w[known]
+            m.V[link] = V + _sigma(j, known) * _relative(geom, pose, levels, j, known, m.w[known], rate)
+
+    def _dyad_motion(self, geom, pose, levels, m, plan, ka, kc):
+        """Solve the dyad's two unknown rates from the constraint at its inner joint (linear in them)."""
+        def trial(x):
+            return self._dyad_rates(geom, pose, levels, m, plan, ka, kc, x)
+
+        f0 = trial((0.0, 0.0))[-1]
+        c1 = trial((1.0, 0.0))[-1] - f0
+        c2 = trial((0.0, 1.0))[-1] - f0
+        det = _cross(c1, c2)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            x = (_cross(-f0, c2) / det, _cross(c1, -f0) / det)
+        w1, V1, w2, V2, slides, _ = trial(x)
+        m.w[plan.l1], m.V[plan.l1], m.w[plan.l2], m.V[plan.l2] = w1, V1, w2, V2
+        m.slide.update(slides)
+
+    def _dyad_rates(self, geom, pose, levels, m, plan, ka, kc, x):
+        """Rates of the dyad's links for trial unknowns ``x`` and the constraint residual at the inner joint."""
+        a, b, c = plan.a, plan.b, plan.c
+        free = iter(x)
+        if b.kind == "R":
+            w1 = next(free) if a.kind == "R" else m.w[ka]
+            w2 = next(free) if c.kind == "R" else m.w[kc]
+        else:
+            w1 = w2 = m.w[ka] if a.kind == "P" else m.w[kc] if c.kind == "P" else next(free)
+        slides = {j.name: next(free) for j in (a, b, c) if j.kind == "P"}
+        ends = []
+        for joint, link, known, w in ((a, plan.l1, ka, w1), (c, plan.l2, kc, w2)):
+            V = _point(pose, levels, m.w[known], m.V[known], known, pose.world(geom, known, joint.name))
+            if joint.kind == "P":
+                V = V + _sigma(joint, known) * _relative(geom, pose, levels, joint, known, m.w[known], slides[joint.name])
+            ends.append((w, V))
+        (w1, V1), (w2, V2) = ends
+        rates = {plan.l1: (w1, V1), plan.l2: (w2, V2)}
+
+        def at_b(link):
+            return _point(pose, levels, *rates[link], link, pose.world(geom, link, b.name))
+
+        if b.kind == "R":
+            residual = at_b(plan.l1) - at_b(plan.l2)
+        else:
+            guide, slider = b.links
+            residual = at_b(slider) - at_b(guide) - _relative(geom, pose, levels, b, guide, rates[guide][0],
+                                                              slides[b.name])
+        return w1, V1, w2, V2, slides, residual
+
+    # -- outputs -------------------------------------------------------------------------
+
+    def outputs(self, geom: Geometry, pose: Poses, levels: list[Motion] = (), unwrap: bool = True) -> dict:
+        """The query's output columns (as :meth:`~domes.motion.planar.query.Kinematics.output_values`).
+
+        Angles are continuous along the last axis when ``unwrap``.
+        """
+        out = {}
+        for o in self.kin.outputs:
+            if o.kind == "angle":
+                R = pose.links[o.target][0]
+                angle = geom.reference[o.target] + np.angle(R)
+                comps = [[np.unwrap(angle, axis=-1) if unwrap and np.ndim(angle) else angle]]
+                comps += [[lv.w[o.target]] for lv in levels]
+            elif o.kind == "slide":
+                comps = [[pose.slides[o.target]]] + [[lv.slide[o.target]] for lv in levels]
+            else:
+                link = self.mech.point(o.target)[0]
+                X = pose.world(geom, link, o.target)
+                comps = [[X.real, X.imag]]
+                for k, lv in enumerate(levels):
+                    v = _point(pose, levels[:k], lv.w[link], lv.V[link], link, X)
+                    comps.append([v.real, v.imag])
+            for k, comp in enumerate(comps):
+                for name, val in zip(o.columns(), comp):
+                    out[name + "'" * k] = np.broadcast_to(val, pose.shape)
+        return out
+
+
+def _point(pose, levels, w, V, link, X):
+    """Velocity (``levels`` empty) or acceleration (``levels`` the velocities) of the world point ``X`` of ``link``.
+
+    ``w, V`` are the link's angular rate and its anchor's rate at the level being built.
+    """
+    W = pose.links[link][1]
+    if not levels:
+        return V + 1j * w * (X - W)
+    omega = levels[0].w[link]
+    return V + (1j * w - omega * omega) * (X - W)
+
+
+def _relative(geom, pose, levels, j, guide, w, rate):
+    """Rate (or acceleration) of the slider's point over the guide's point at P joint ``j``.
+
+    ``guide`` is any link turning with the joint's guide (their rotations are
+    equal), ``w`` its angular rate at this level, ``rate`` the slide's.
+    """
+    u = pose.links[guide][0] * geom.direction[j.name]
+    ds = pose.slides[j.name] - geom.s0[j.name]
+    if not levels:
+        return rate * u + ds * 1j * w * u
+    omega = levels[0].w[guide]
+    return rate * u + 2 * levels[0].slide[j.name] * 1j * omega * u + ds * (1j * w - omega * omega) * u
+
+
+def _sigma(j, known) -> float:
+    """+1 when the known link is the P joint's guide (the other link slides on it), −1 when it is the slider."""
+    return 1.0 if j.links[0] == known else -1.0
+
+
+def _count(count, m, name):
+    if count is not None and m != count:
+        raise InputError(f"{name!r} has {m} rows, other entries {count}: every array must describe the same mechanisms")
+    return m
+
+
+def _reference(at, joints):
+    """The reference angle rule of :meth:`~domes.model.mechanism.Mechanism.reference_angle` on arrays."""
+    first = at[joints[0]]
+    angle = 0.0
+    for name in reversed(joints[1:]):
+        d = at[name] - first
+        angle = np.where(d != 0, np.angle(d), angle) if np.ndim(d) else (float(np.angle(d)) if d != 0 else angle)
+    return angle
+
+
+def _drawn_sign(plan, geom):
+    """The assembly mode of a signed dyad in the drawn pose (as :meth:`~domes.motion.planar.dyads.DyadPlan.of`)."""
+    a, b, c = plan.a, plan.b, plan.c
+    at = geom.at
+    if plan.kind == "RRR":
+        value = _cross(at[c.name] - at[a.name], at[b.name] - at[a.name])
+    elif plan.kind == "RPR":
+        gp, sp = (a, c) if b.links[0] == plan.l1 else (c, a)
+        value = _dot(geom.direction[b.name], at[sp.name] - at[gp.name])
+    else:
+        value = _dot(geom.direction[c.name], at[b.name] - at[a.name])
+    return np.sign(value) if np.ndim(value) else math.copysign(1.0, value) if value else 0.0
