@@ -222,6 +222,10 @@ class Mechanism:
         given = dict(self.link_angles)
         if link in given:
             return given[link]
+        return self.reference_angle_rule(link)
+
+    def reference_angle_rule(self, link: str) -> float:
+        """The angle from ``link``'s first joint to its next joint elsewhere (the reference line unless given)."""
         pts = [j.at for j in self.joints_of(link)]
         for p in pts[1:]:
             dx, dy = p[0] - pts[0][0], p[1] - pts[0][1]

@@ -129,6 +129,39 @@ def _stack(kin, g, values, rates=None):
     return A, J, loops
 
 
+def _condition(J):
+    """2-norm condition numbers of a stack of matrices (``inf`` where singular); 2 × 2 in closed form.
+
+    For 2 × 2, ``σ₁² = (F + √(F² − 4D²))/2`` with ``F`` the squared Frobenius
+    norm and ``D`` the determinant, and ``cond = σ₁/σ₂ = σ₁²/|D|``.
+
+    >>> float(_condition(np.array([[[3.0, 0.0], [0.0, 1e-3]]]))[0])
+    3000.0
+    """
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        if J.shape[-2:] == (2, 2):
+            F = np.sum(J * J, axis=(-2, -1))
+            D = np.abs(J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0])
+            s1 = 0.5 * (F + np.sqrt(np.maximum(F * F - 4 * D * D, 0.0)))
+            cond = np.maximum(s1 / D, 1.0)
+        else:
+            cond = np.linalg.cond(J)
+    return np.where(np.isfinite(cond), cond, np.inf)
+
+
+def _rhs(n, g, loops, col, given, rates=None):
+    """``−B·given`` (and ``− Ḃ·rates − J̇·rates`` when ``rates`` are given) of every configuration: ``(n, m)``."""
+    rhs = np.zeros((n, g.equations))
+    for i, (cols, dcols) in enumerate(loops):
+        terms = [(c, given[v]) for v, c in cols.items() if v not in col]
+        if rates is not None:
+            terms += [(c, rates[v]) for v, c in dcols.items()]
+        for c, x in terms:
+            rhs[:, 2 * i] -= c[0] * x
+            rhs[:, 2 * i + 1] -= c[1] * x
+    return rhs
+
+
 def motion_many(kin, values: dict, order: int):
     """Rates and accelerations (variable -> array), residuals and condition numbers of every configuration.
 
@@ -148,73 +181,30 @@ def motion_many(kin, values: dict, order: int):
         A, J, loops = _stack(kin, g, values)
         residual = np.maximum(residual, np.max(np.abs(A), axis=-1) / kin.size)
         scale = np.array([1.0 / kin.size if v.startswith("rot:") else 1.0 for v in g.unknowns])
-        with np.errstate(invalid="ignore", divide="ignore"):
-            cond = np.linalg.cond(J * scale)
-        cond = np.where(np.isfinite(cond), cond, np.inf)
+        cond = _condition(J * scale)
         condition = np.maximum(condition, cond)
         if order == 0:
             continue
         ok = np.isfinite(cond)
         safe = np.where(ok[:, None, None], J, np.eye(len(g.unknowns)))
         col = {v: k for k, v in enumerate(g.unknowns)}
-        rhs = np.zeros((n, g.equations))
-        for i, (cols, _) in enumerate(loops):
-            for v, c in cols.items():
-                if v not in col:
-                    rhs[:, 2 * i] -= c[0] * rates[v]
-                    rhs[:, 2 * i + 1] -= c[1] * rates[v]
-        sol = np.linalg.solve(safe, rhs[..., None])[..., 0]
+        sol = np.linalg.solve(safe, _rhs(n, g, loops, col, rates)[..., None])[..., 0]
         sol[~ok] = np.nan
-        for k, v in enumerate(g.unknowns):
-            rates[v] = sol[:, k]
+        rates.update({v: sol[:, k] for k, v in enumerate(g.unknowns)})
         if order == 1:
             continue
-        _, _, loops2 = _stack(kin, g, values, rates)
-        rhs = np.zeros((n, g.equations))
-        for i, (cols, dcols) in enumerate(loops2):
-            for v, c in cols.items():
-                if v not in col:
-                    rhs[:, 2 * i] -= c[0] * accels[v]
-                    rhs[:, 2 * i + 1] -= c[1] * accels[v]
-            for v, c in dcols.items():
-                rhs[:, 2 * i] -= c[0] * rates[v]
-                rhs[:, 2 * i + 1] -= c[1] * rates[v]
-        sol = np.linalg.solve(safe, rhs[..., None])[..., 0]
+        _, _, loops = _stack(kin, g, values, rates)
+        sol = np.linalg.solve(safe, _rhs(n, g, loops, col, accels, rates)[..., None])[..., 0]
         sol[~ok] = np.nan
-        for k, v in enumerate(g.unknowns):
-            accels[v] = sol[:, k]
+        accels.update({v: sol[:, k] for k, v in enumerate(g.unknowns)})
     return rates, accels, residual, condition
 
 
 def outputs_many(kin, values, rates, accels, order: int) -> dict:
     """The query's output columns (name -> array), as :meth:`~domes.motion.planar.query.Kinematics.output_values`."""
-    out = {}
-    s, mech = kin.structure, kin.mech
     n = max((np.size(a) for a in values.values()), default=1)
-    for o in kin.outputs:
-        if o.kind == "angle":
-            expr = s.rotations[o.target]
-            ref = 0.0 if o.target == mech.ground else mech.reference_angle(o.target)
-            comps = [[ref + expr.value(values)]]
-            if order >= 1:
-                comps.append([expr.rate(rates)])
-            if order >= 2:
-                comps.append([expr.rate(accels)])
-        elif o.kind == "slide":
-            v = s.input_vars.get(o.target, f"s:{o.target}")
-            comps = [[values[v]], [rates.get(v, 0.0)], [accels.get(v, 0.0)]][: order + 1]
-        else:
-            a, cols, dcols = evaluate(kin._output_paths[o.target], values, rates if order >= 2 else None, lib=np)
-            comps = [list(a)]
-            if order >= 1:
-                comps.append([sum(c[k] * rates[v] for v, c in cols.items()) for k in (0, 1)])
-            if order >= 2:
-                comps.append([sum(c[k] * accels[v] for v, c in cols.items())
-                              + sum(c[k] * rates[v] for v, c in dcols.items()) for k in (0, 1)])
-        for k, comp in enumerate(comps):
-            for name, val in zip(o.columns(), comp):
-                out[name + "'" * k] = np.broadcast_to(np.asarray(val, dtype=float), (n,))
-    return out
+    out = kin.output_values(values, rates, accels, order, lib=np)
+    return {k: np.broadcast_to(np.asarray(v, dtype=float), (n,)) for k, v in out.items()}
 
 
 def fine_grid(qs, q_from: float, h: float) -> tuple[np.ndarray, np.ndarray]:

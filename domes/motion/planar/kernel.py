@@ -84,6 +84,14 @@ class Geometry:
     sign: dict
     count: int | None = None
 
+    def rows(self, lo: int, hi: int) -> "Geometry":
+        """The mechanisms ``lo .. hi − 1`` of a batch geometry."""
+        def take(d):
+            return {k: (v[lo:hi] if np.ndim(v) else v) for k, v in d.items()}
+
+        return Geometry(take(self.at), take(self.direction), take(self.s0), take(self.reference), take(self.drawn),
+                        take(self.sign), None if self.count is None else max(0, min(hi, self.count) - lo))
+
 
 @dataclass
 class Poses:
@@ -192,12 +200,14 @@ class Program:
         given = dict(mech.link_angles)
         reference = {}
         for link in mech.links:
+            joints = [j.name for j in mech.joints_of(link)]
+            rule = _reference(at, joints)
             if link == mech.ground:
                 reference[link] = 0.0
-            elif link in given:
-                reference[link] = given[link]
+            elif link in given and np.ndim(rule):  # the given line keeps its place on each link of a batch
+                reference[link] = rule + (given[link] - mech.reference_angle_rule(link))
             else:
-                reference[link] = _reference(at, [j.name for j in mech.joints_of(link)])
+                reference[link] = given.get(link, rule)
         drawn = {}
         for j, i in self.inputs.items():
             joint = mech.joint(j)
@@ -242,7 +252,7 @@ class Program:
             a, b = j.links
             if self.ground in (a, b):
                 b = b if a == self.ground else a
-            turn = np.exp(1j * (q - geom.drawn[j.name]))
+            turn = np.exp(1j * q) * np.exp(-1j * geom.drawn[j.name])  # per input × per mechanism
             pose.links[link] = (R * (turn if link == b else np.conj(turn)), X, geom.at[j.name])
         else:
             pose.slides[j.name] = q

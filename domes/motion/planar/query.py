@@ -460,7 +460,8 @@ class Kinematics:
 
     # -- outputs -----------------------------------------------------------------------
 
-    def output_values(self, values, rates, accels, order) -> dict:
+    def output_values(self, values, rates, accels, order, lib=math) -> dict:
+        """The output columns from the variables, their rates and accelerations (numbers, or arrays with ``lib=np``)."""
         out = {}
         s = self.structure
         mech = self.mech
@@ -478,7 +479,7 @@ class Kinematics:
                 comps = [[values[v]], [rates.get(v, 0.0)], [accels.get(v, 0.0)]][: order + 1]
             else:
                 segs = self._output_paths[o.target]
-                a, cols, dcols = evaluate(segs, values, rates if order >= 2 else None)
+                a, cols, dcols = evaluate(segs, values, rates if order >= 2 else None, lib=lib)
                 comps = [list(a)]
                 if order >= 1:
                     comps.append([sum(c[k] * rates[v] for v, c in cols.items()) for k in (0, 1)])
@@ -487,7 +488,7 @@ class Kinematics:
                                   + sum(c[k] * rates[v] for v, c in dcols.items()) for k in (0, 1)])
             for k, comp in enumerate(comps):
                 for name, val in zip(o.columns(), comp):
-                    out[name + "'" * k] = float(val)
+                    out[name + "'" * k] = float(val) if lib is math else val
         return out
 
     def at(self, inputs: dict, guess: dict | None = None, order: int | None = None) -> Step:

@@ -13,7 +13,8 @@ the whole grid at once, scalar code only where a decision is needed, and
 every change or branch point located and passed on the branch whose
 velocities are continuous (a ``bifurcation`` dead point). Larger groups
 (Newton's method) walk step by step; there a peak of the condition number
-is refined (golden section) and reported as a ``singular`` point. Wherever
+(above 100, or a V of ``1/cond`` reaching towards zero) is refined (golden
+section) and reported as a ``singular`` point. Wherever
 the condition number cannot bound the error of a velocity or acceleration
 (:func:`~domes.motion.planar.query.error_bounds` above the accuracy's
 ``derivatives``), the derivative is NaN and a ``singular`` dead point says why.
@@ -354,9 +355,10 @@ def _refine_peaks(kin, cont, steps, dead):
             dead.append(DeadPoint(q, within, DeadPointKind.SINGULAR, group.label, group.joints, text))
             known.append(q)
 
+    qs = [s.inputs[cont.joint] for s in steps]
     for k in range(1, len(steps) - 1):
         c = conds[k]
-        if not (c >= conds[k - 1] and c >= conds[k + 1] and c > WATCH_CONDITION):
+        if not (c >= conds[k - 1] and c >= conds[k + 1] and (c > WATCH_CONDITION or _v_shaped(qs, conds, k))):
             continue
         q = steps[k].inputs[cont.joint]
         group = _worst_group(kin, steps[k].state)
@@ -393,6 +395,21 @@ def _refine_peaks(kin, cont, steps, dead):
             report(q, within, group, f"{group.label}: Jacobian singular at input {cont.fmt(q)} (joints "
                    f"{', '.join(group.joints)}, condition {1 / fmin if fmin else math.inf:.3g}); a branch or change point: "
                    "the sweep stays in the drawn assembly mode")
+
+
+def _v_shaped(qs, conds, k) -> bool:
+    """Whether ``1/cond`` at step ``k`` is low enough to be a V reaching zero between its neighbours.
+
+    Near a branch point ``1/cond`` falls linearly to zero from both sides, so
+    at the step nearest it ``1/cond`` is at most the steeper chord's slope
+    times the spacing; a smooth minimum away from zero is far above that.
+    """
+    f = [1.0 / c if c > 0 else math.inf for c in conds[k - 1:k + 2]]
+    dx = (abs(qs[k] - qs[k - 1]), abs(qs[k + 1] - qs[k]))
+    if not min(dx) > 0:
+        return False
+    slope = max(abs(f[1] - f[0]) / dx[0], abs(f[2] - f[1]) / dx[1])
+    return f[1] <= slope * max(dx)
 
 
 def _worst_group(kin, values):

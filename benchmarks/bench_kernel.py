@@ -1,0 +1,193 @@
+"""Speed and error of the kinematics kernel beside its peers (issue 12, item 5).
+
+Run ``python benchmarks/bench_kernel.py``. It prints, in one run:
+
+1. each example sweep of 3,600 steps (a full turn from the drawn pose),
+   order 0 and order 2, all outputs: the median time of ``--repeat`` runs
+   in-process, the largest residual, and the error against the 40-digit
+   mpmath reference (``bench_kinematics.reference``) at every 100th step;
+   beside it the same sweep (positions) in Pyslvs and pylinkage when they
+   are installed (``benchmarks/peers.py``; a peer that is missing is skipped
+   with a note), with their time and error against the same reference;
+2. a batch of ``--mechanisms`` random four-bars × 360 inputs (positions of a
+   coupler point): time, positions per second, and the error of a sample of
+   rows against the reference; beside it the peers' rate on a sample of
+   the same four-bars (one mechanism at a time: they have no batch API).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from bench_kinematics import reference  # noqa: E402
+from peers import PEERS  # noqa: E402
+
+from domes.io.mechanisms import load_mechanism  # noqa: E402
+from domes.motion import CouplerPoint, Input, Joint, Kinematics, Mechanism, batch  # noqa: E402
+from domes.motion.planar.query import parse_outputs  # noqa: E402
+from domes.motion.planar.sweep import run_sweep  # noqa: E402
+
+EXAMPLES = ["four-bar.json", "watt-six-bar.json", "stephenson-six-bar.json"]
+STEPS = 3600
+#: The joint each example is compared at: one solved last (the far end of the chain of groups).
+FAR_JOINT = {"four-bar.json": "C", "watt-six-bar.json": "f", "stephenson-six-bar.json": "G"}
+
+
+def _median_time(fn, repeat):
+    fn()
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times), out
+
+
+def _reference_points(mech, qs, point, every):
+    """The mpmath reference position of ``point`` at every ``every``-th input of ``qs`` (from our sweep's states)."""
+    full = Kinematics(mech, [f"point:{point}"], 2, "newton", "exact")
+    sw = run_sweep(Kinematics(mech, [f"point:{point}"], 0), qs[0], qs[-1], (qs[-1] - qs[0]) / (qs.size - 1))
+    j = mech.inputs[0].joint
+    out = {}
+    for k in range(0, sw.inputs.size, every):
+        st = sw.steps[k]
+        ref = reference(full, full.positions(st.inputs, st.state))
+        out[k] = (float(ref[f"point:{point}.x"]), float(ref[f"point:{point}.y"]))
+    assert sw.inputs.size == qs.size and abs(sw.steps[0].inputs[j] - qs[0]) < 1e-12
+    return out
+
+
+def _error(points, refs, size):
+    return max(math.hypot(points[k][0] - x, points[k][1] - y) for k, (x, y) in refs.items()) / size
+
+
+def sweeps(repeat):
+    rows = []
+    for name in EXAMPLES:
+        m = load_mechanism(str(ROOT / "examples" / "mechanisms" / name))
+        j = m.inputs[0].joint
+        q0 = Kinematics(m).drawn_inputs()[j]
+        qs = q0 + np.linspace(0.0, 2 * math.pi, STEPS + 1)
+        point = FAR_JOINT[name]
+        refs = _reference_points(m, qs, point, 100)
+        outputs = [o.name for o in parse_outputs(m, None)] + [f"point:{point}"]  # all outputs and the far joint
+        for order in (0, 2):
+            kin = Kinematics(m, outputs, order)
+            t, sw = _median_time(lambda: run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS), repeat)
+            pts = np.c_[sw.column(f"point:{point}.x"), sw.column(f"point:{point}.y")]
+            rows.append((name, "domes", order, t, sw.max_residual, _error(pts, refs, m.size), len(sw.dead_points)))
+        for peer, fn in PEERS.items():
+            try:
+                got = fn(m, qs, point)
+            except NotImplementedError as exc:
+                rows.append((name, peer, 0, None, None, None, str(exc)))
+                continue
+            if got is None:
+                rows.append((name, peer, 0, None, None, None, "not installed"))
+                continue
+            pts, t = got
+            rows.append((name, peer, 0, t, None, _error(pts, refs, m.size), None))
+    return rows
+
+
+def four_bar_template():
+    return Mechanism.build("four-bar", ["f", "crank", "coupler", "rocker"], "f",
+                           [Joint("A", "R", ("f", "crank"), (0.0, 0.0)), Joint("B", "R", ("crank", "coupler"), (1.0, 0.0)),
+                            Joint("C", "R", ("coupler", "rocker"), (3.5, math.sqrt(6.0))),
+                            Joint("D", "R", ("rocker", "f"), (3.0, 0.0))],
+                           [Input("A")], points=[CouplerPoint("P", "coupler", (2.0, 2.0))])
+
+
+def random_four_bars(count, seed=0):
+    rng = np.random.default_rng(seed)
+    return {"B": np.c_[rng.uniform(0.5, 1.5, count), rng.uniform(-0.3, 0.3, count)],
+            "C": np.c_[rng.uniform(2.5, 4.0, count), rng.uniform(1.5, 3.0, count)],
+            "D": np.c_[rng.uniform(2.5, 3.5, count), np.zeros(count)],
+            "P": np.c_[rng.uniform(0.0, 4.0, count), rng.uniform(0.0, 4.0, count)]}
+
+
+def _row(coords, m):
+    t = four_bar_template()
+    moved = {k: tuple(v[m]) for k, v in coords.items()}
+    joints = [Joint(j.name, j.kind, j.links, moved.get(j.name, j.at)) for j in t.joints]
+    return Mechanism.build(f"four-bar {m}", list(t.links), t.ground, joints, list(t.inputs),
+                           points=[CouplerPoint("P", "coupler", moved["P"])])
+
+
+def batches(count, repeat, peer_sample):
+    coords = random_four_bars(count)
+    qs = np.radians(np.arange(360.0))
+    t, b = _median_time(lambda: batch(four_bar_template(), coords, qs, outputs=["point:P"]), repeat)
+    # Error: 12 complete rows × every 30th input against the reference.
+    worst = 0.0
+    for m in np.flatnonzero(b.kinds == "complete")[:12]:
+        mech = _row(coords, m)
+        refs = _reference_points(mech, qs, "P", 30)
+        pts = {k: (b.values["point:P.x"][m, k], b.values["point:P.y"][m, k]) for k in refs}
+        worst = max(worst, _error(pts, refs, mech.size))
+    rows = [("domes batch", count, t, count * qs.size / t, worst, b.message)]
+    complete = np.flatnonzero(b.kinds == "complete")[:peer_sample]
+    for peer, fn in PEERS.items():
+        total, done, err = 0.0, 0, 0.0
+        note = ""
+        for m in complete:
+            mech = _row(coords, m)
+            try:
+                got = fn(mech, qs, "P")
+            except NotImplementedError as exc:
+                note = str(exc)
+                break
+            if got is None:
+                note = "not installed"
+                break
+            pts, dt = got
+            total += dt
+            done += 1
+            mine = np.c_[b.values["point:P.x"][m], b.values["point:P.y"][m]]
+            err = max(err, float(np.max(np.hypot(*(pts - mine).T))) / mech.size)
+        if done:
+            rows.append((peer, done, total, done * qs.size / total, err, "one mechanism at a time; error vs domes"))
+        else:
+            rows.append((peer, 0, None, None, None, note))
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=7, help="runs per timing (the median is shown)")
+    ap.add_argument("--mechanisms", type=int, default=100_000, help="four-bars in the batch")
+    ap.add_argument("--peer-sample", type=int, default=200, help="four-bars of the batch timed in each peer")
+    args = ap.parse_args(argv)
+    print(f"## Sweeps of {STEPS:,} steps (median of {args.repeat})\n")
+    print("| mechanism | library | order | time [ms] | max residual | position error / size | dead points |")
+    print("|---|---|---:|---:|---:|---:|---|")
+    for name, lib, order, t, res, err, dead in sweeps(args.repeat):
+        if t is None:
+            print(f"| {name} | {lib} | | | | | skipped: {dead} |")
+        else:
+            print(f"| {name} | {lib} | {order} | {t * 1e3:.1f} | {'' if res is None else f'{res:.1e}'} | "
+                  f"{err:.1e} | {'' if dead is None else dead} |")
+    print(f"\n## Batch: {args.mechanisms:,} random four-bars × 360 inputs, a coupler point (median of "
+          f"{max(1, args.repeat // 3)})\n")
+    print("| library | mechanisms | time [s] | positions/s | position error / size | note |")
+    print("|---|---:|---:|---:|---:|---|")
+    for lib, n, t, rate, err, note in batches(args.mechanisms, max(1, args.repeat // 3), args.peer_sample):
+        if t is None:
+            print(f"| {lib} | | | | | skipped: {note} |")
+        else:
+            print(f"| {lib} | {n:,} | {t:.3f} | {rate / 1e6:.2f} M | {err:.1e} | {note} |")
+
+
+if __name__ == "__main__":
+    main()
