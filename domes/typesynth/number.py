@@ -130,13 +130,7 @@ def link_assortments(links: int, joints: int, max_degree: int | None = None) -> 
     >>> [a.as_tuple() for a in link_assortments(8, 10)]
     [(6, 0, 2), (5, 2, 1), (4, 4)]
     """
-    check_count("links", links, 1)
-    check_count("joints", joints, 0)
-    loops = joints - links + 1
-    if loops < 1:
-        raise InputError(f"{links} links and {joints} joints form no closed loop (L = j - n + 1 = {loops})")
-    top = max(2, loops + 1) if max_degree is None else check_count("max_degree", max_degree, 2)
-    excess = 2 * joints - 2 * links  # Σ (d − 2)·n_d
+    top, excess = _degrees(links, joints, max_degree)  # excess = Σ (d − 2)·n_d
     found: list[LinkAssortment] = []
 
     def extend(degree: int, left_links: int, left_excess: int, counts: dict[int, int]) -> None:
@@ -157,6 +151,17 @@ def link_assortments(links: int, joints: int, max_degree: int | None = None) -> 
     return found
 
 
+def _degrees(links: int, joints: int, max_degree: int | None) -> tuple[int, int]:
+    """The largest link degree allowed and the excess ``2(j − n)`` of a chain of ``links`` and ``joints``."""
+    check_count("links", links, 1)
+    check_count("joints", joints, 0)
+    loops = joints - links + 1
+    if loops < 1:
+        raise InputError(f"{links} links and {joints} joints form no closed loop (L = j - n + 1 = {loops})")
+    top = max(2, loops + 1) if max_degree is None else check_count("max_degree", max_degree, 2)
+    return top, 2 * joints - 2 * links
+
+
 def count_link_assortments(links: int, joints: int, max_degree: int | None = None) -> int:
     """How many assortments :func:`link_assortments` lists, counted without listing them.
 
@@ -169,13 +174,7 @@ def count_link_assortments(links: int, joints: int, max_degree: int | None = Non
     >>> count_link_assortments(801, 1200) > 10**20     # 400 loops: far too many to list
     True
     """
-    check_count("links", links, 1)
-    check_count("joints", joints, 0)
-    loops = joints - links + 1
-    if loops < 1:
-        raise InputError(f"{links} links and {joints} joints form no closed loop (L = j - n + 1 = {loops})")
-    top = max(2, loops + 1) if max_degree is None else check_count("max_degree", max_degree, 2)
-    excess = 2 * joints - 2 * links
+    top, excess = _degrees(links, joints, max_degree)
     ways = [1] + [0] * excess  # ways[e]: partitions of e into the parts seen so far
     for part in range(1, top - 1):
         for e in range(part, excess + 1):
