@@ -60,12 +60,15 @@ class Run:
         return {v: (float(a[index]) if isinstance(a, np.ndarray) else a) for v, a in self.values.items()}
 
 
-def positions_many(compiled: Compiled, joint: str, qs, start: dict, others: dict | None = None) -> Run:
+def positions_many(compiled: Compiled, joint: str, qs, start: dict, others: dict | None = None,
+                   jumps: bool = True) -> Run:
     """Every variable of the needed groups at inputs ``qs`` of ``joint``, continuing from the state ``start``.
 
     ``start`` is the configuration the array continues from (rotations stay
     within half a turn of it and of each other); its ``sign:`` entries are
     the dyads' assembly modes. ``others`` holds the other inputs' values.
+    With ``jumps=False`` the first configuration is not required to be near
+    ``start`` (a configuration placed anew, e.g. in another assembly mode).
     """
     kin = compiled.kin
     qs = np.asarray(qs, dtype=float)
@@ -103,9 +106,9 @@ def positions_many(compiled: Compiled, joint: str, qs, start: dict, others: dict
             if v.startswith("s:"):
                 values[v] = np.broadcast_to(pose.slides[v[2:]], (n,)).astype(float)
         for v in g.unknowns:
-            path = np.concatenate(([start[v]], values[v]))
+            path = np.concatenate(([start[v]], values[v]))[0 if jumps else 1:]
             change = np.abs(np.diff(path)) / (1.0 if v.startswith("rot:") else kin.size)
-            fail(~(change <= JUMP), "jump", g)
+            fail(np.concatenate(([False] if not jumps else [], ~(change <= JUMP))), "jump", g)
     roots = {i: np.broadcast_to(r, (n,)) for i, r in pose.root.items()}
     return Run(values, roots, first)
 
