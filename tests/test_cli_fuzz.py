@@ -20,6 +20,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from domes.cli import build_parser, main
+from domes.io.atlas import save_atlas
+from domes.motion.coupler.atlas import AtlasSpec, build
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -52,6 +54,12 @@ BASE = {
     "draw": ["draw", "ErOg"],
     "cases record": ["cases", "--db", "DB", "record", "examples/design/gripper.answers", "--name", "fuzzed"],
     "cases remove": ["cases", "--db", "DB", "remove", "robot-gripper-1"],
+    "curves classify": ["curves", "classify", "0.4", "1.2", "1.0", "1.4"],
+    "curves trace": ["curves", "trace", "--four-bar", "0.4", "1.2", "1.0", "1.4", "1.3", "0.2", "--samples", "90"],
+    "curves describe": ["curves", "describe", "--four-bar", "1", "3.5", "3", "2", "0", "-2"],
+    "curves atlas": ["curves", "atlas", "info", "--file", "ATLAS.h5"],
+    "curves match": ["curves", "match", "examples/curves/figure-eight.csv", "--atlas", "ATLAS.h5", "--candidates", "2",
+                     "--results", "1"],
 }
 
 HOSTILE = ["", " ", "nan", "inf", "-1", "0", "1e309", "99999999999999999999", "🙂 ∑", "/", "/nonexistent/x.json",
@@ -115,7 +123,7 @@ def _is_flag(command: str, argument: str) -> bool:
 def _place(word: str, folder: Path) -> str:
     return {"DB": str(folder / "casebase.db"), "DIR": str(folder / "a-folder"), "BINARY": str(folder / "binary.bin"),
             "WRONG.json": str(folder / "wrong.json"), "EMPTY.toml": str(folder / "empty.toml"),
-            "EXTRA.toml": str(folder / "extra.toml")}.get(word, word)
+            "EXTRA.toml": str(folder / "extra.toml"), "ATLAS.h5": str(folder / "atlas.h5")}.get(word, word)
 
 
 @pytest.fixture
@@ -128,8 +136,10 @@ def scratch(tmp_path, monkeypatch):
     (tmp_path / "wrong.json").write_text("[1, 2, {\"links\": null}]")
     (tmp_path / "empty.toml").write_text("")
     (tmp_path / "extra.toml").write_text('[[criterion]]\nid = "extra-1"\ntext = "every vertex must have degree at most 5"\n')
+    save_atlas(build(AtlasSpec("fuzz", 6, 2.0)), tmp_path / "atlas.h5")  # a tiny atlas of coupler curves
     monkeypatch.chdir(tmp_path)
     monkeypatch.setenv("DOMES_KNOWLEDGE", str(tmp_path / "knowledge"))
+    monkeypatch.setenv("DOMES_HOME", str(tmp_path / "home"))
     monkeypatch.setattr("sys.stdin", io.StringIO(""))
     return tmp_path
 
@@ -157,6 +167,16 @@ def test_no_argument_ends_in_a_traceback(scratch, capsys, mutation):
     command, argument, value = mutation
     status = ends_cleanly(argv(command, argument, value, scratch), capsys)
     assert status in (0, 1, 2, 130)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("command", sorted(c for c in BASE if c.startswith("curves")))
+def test_every_curves_argument_ends_cleanly(scratch, capsys, command):
+    # every mutation of the coupler-curve commands (few and quick), not a sample
+    for cmd, argument, value in mutations():
+        if cmd == command:
+            status = ends_cleanly(argv(cmd, argument, value, scratch), capsys)
+            assert status in (0, 1, 2, 130), (argument, value)
 
 
 def test_every_base_call_runs(scratch, capsys):

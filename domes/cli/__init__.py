@@ -28,6 +28,7 @@ SUBCOMMAND_MODULES = (
     "domes.cli.regenerate",
     "domes.cli.kb",
     "domes.cli.kinematics",
+    "domes.cli.curves",
     "domes.cli.draw",
     "domes.cli.design",
 )

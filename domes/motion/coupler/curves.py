@@ -60,6 +60,7 @@ class Circuit:
     limits: tuple[DeadPoint, ...]
     branch_points: tuple[DeadPoint, ...]
     states: dict = field(default_factory=dict, repr=False)
+    extra: dict = field(default_factory=dict, repr=False)
 
     def state(self, i: int) -> dict:
         """The mechanism's configuration (the query's variables) at point ``i``."""
@@ -72,7 +73,8 @@ class Circuit:
     @property
     def turns(self) -> float:
         """Input turns walked to close the circuit (limits walk back and forth)."""
-        return float(np.sum(np.abs(np.diff(self.inputs)))) / (2 * math.pi)
+        closing = abs(math.remainder(self.inputs[0] - self.inputs[-1], 2 * math.pi))
+        return (float(np.sum(np.abs(np.diff(self.inputs)))) + closing) / (2 * math.pi)
 
     @property
     def length(self) -> float:
@@ -116,19 +118,26 @@ class CouplerCurve(Result):
             "; ".join(parts) + ")"
 
 
-def trace(mech: Mechanism, point: str | None = None, samples: int = SAMPLES, accuracy=None) -> CouplerCurve:
+#: Samples per input turn a trace accepts (a million resolves 6e-6 rad; more only costs memory).
+MIN_SAMPLES, MAX_SAMPLES = 8, 1_000_000
+
+
+def trace(mech: Mechanism, point: str | None = None, samples: int = SAMPLES, accuracy=None,
+          extra: tuple[str, ...] = ()) -> CouplerCurve:
     """Every circuit of the curve of ``point`` (default: the first coupler point) as the input turns.
 
     ``samples`` points per input turn; the accuracy's ``locate`` bounds the
     limits' location. Mechanisms of drivers and dyads with one R input.
+    ``extra`` names other joints or points whose positions each circuit
+    keeps too (``Circuit.extra``).
     """
     if point is None:
         if not mech.points:
             raise InputError(f"{mech.name}: no coupler point to trace; name a joint or add a point")
         point = mech.points[0].name
-    if samples < 8:
-        raise InputError(f"samples must be at least 8, got {samples}")
-    kin = Kinematics(mech, [f"point:{point}"], 1, "assur", accuracy)
+    if not MIN_SAMPLES <= samples <= MAX_SAMPLES:
+        raise InputError(f"samples must be between {MIN_SAMPLES} and {MAX_SAMPLES:,} per turn, got {samples}")
+    kin = Kinematics(mech, [f"point:{point}"] + [f"point:{x}" for x in extra], 1, "assur", accuracy)
     if not vectorizable(kin):
         raise InputError(f"{mech.name}: coupler curves are traced for mechanisms of drivers and dyads; its groups "
                          f"{[g.kind for g in kin.groups]} need Newton's method")
@@ -297,6 +306,7 @@ class _Tracer:
         name = self.kin.outputs[0].name
         pts = np.c_[out[f"{name}.x"], out[f"{name}.y"]]
         vel = np.c_[out[f"{name}.x'"], out[f"{name}.y'"]]
+        extra = {o.target: np.c_[out[f"{o.name}.x"], out[f"{o.name}.y"]] for o in self.kin.outputs[1:]}
         modes = np.array([[values.get(sign_key(g), np.full(xs.shape, self.kin.plans[g.index].sign))[i]
                            for g in self.signed] for i in range(xs.size)]).reshape(xs.size, len(self.signed))
-        return Circuit(xs, pts, vel, modes, tuple(limits), tuple(branch), values)
+        return Circuit(xs, pts, vel, modes, tuple(limits), tuple(branch), values, extra)

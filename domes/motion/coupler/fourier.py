@@ -33,7 +33,6 @@ Conventions made explicit:
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -101,14 +100,7 @@ class Normalised:
 
         ``a0 = 0``, ``a1 = 1`` and ``Im a−1 = 0`` carry nothing and are left out.
         """
-        M = self.coefficients.harmonics
-        parts = []
-        for m in range(-M, M + 1):
-            if m in (0, 1):
-                continue
-            a = self.coefficients[m]
-            parts += [a.real] if m == -1 else [a.real, a.imag]
-        return np.array(parts)
+        return features(self.coefficients.vector()[None, :])[0]
 
 
 def normalise(coeffs: Coefficients, convention: str = "literal") -> Normalised:
@@ -116,27 +108,46 @@ def normalise(coeffs: Coefficients, convention: str = "literal") -> Normalised:
     if convention not in ("literal", "book"):
         raise InputError(f"convention must be 'literal' or 'book', got {convention!r}")
     c = Coefficients(coeffs)
-    M = c.harmonics
-    rev = abs(c[-1]) > abs(c[1])
-    if rev:
-        c = Coefficients({m: c[-m] for m in range(-M, M + 1)})
-    if abs(c[1]) == 0:
-        raise InputError("the curve has no first harmonic (a1 = 0): it is a point or retraces itself; "
+    if abs(c[1]) == 0 and abs(c[-1]) == 0:
+        raise InputError("the curve has no first harmonic (a1 = a−1 = 0): it is a point or retraces itself; "
                          "no Fourier normalisation")
-    translation = -c[0]
-    phi1, phim1 = math.atan2(c[1].imag, c[1].real), math.atan2(c[-1].imag, c[-1].real)
-    alpha = 0.5 * (phi1 + phim1)
-    beta = 0.5 * (phi1 - phim1)
-    scale = abs(c[1])
-    out = {}
-    for m in range(-M, M + 1):
-        a = 0j if m == 0 else c[m]
-        out[m] = a * complex(math.cos(-alpha), math.sin(-alpha)) / scale * complex(math.cos(-m * beta), math.sin(-m * beta))
-    out[1] = complex(out[1].real, 0.0)
-    out[-1] = complex(out[-1].real, 0.0)
+    out, alpha, beta, scale, rev = normalise_many(c.vector()[None, :])
+    row = Coefficients.of(out[0])
     if convention == "book":
-        out = {m: a.conjugate() for m, a in out.items()}
-    return Normalised(Coefficients(out), translation, alpha, scale, beta, rev, convention == "book")
+        row = Coefficients({m: a.conjugate() for m, a in row.items()})
+    return Normalised(row, -c[0], float(alpha[0]), float(scale[0]), float(beta[0]), bool(rev[0]), convention == "book")
+
+
+def normalise_many(vectors):
+    """:func:`normalise` of many curves at once: rows ``[a_−M, ..., a_M]`` -> ``(normalised, α, β, |a1|, reversed)``."""
+    A = np.array(vectors, dtype=complex)
+    M = (A.shape[1] - 1) // 2
+    rev = np.abs(A[:, M - 1]) > np.abs(A[:, M + 1])
+    A[rev] = A[rev, ::-1]
+    phi1, phim1 = np.angle(A[:, M + 1]), np.angle(A[:, M - 1])
+    alpha, beta = 0.5 * (phi1 + phim1), 0.5 * (phi1 - phim1)
+    scale = np.abs(A[:, M + 1])
+    m = np.arange(-M, M + 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = A * np.exp(-1j * alpha)[:, None] / scale[:, None] * np.exp(-1j * np.outer(beta, m))
+    out[:, M] = 0
+    out[:, M + 1] = out[:, M + 1].real
+    out[:, M - 1] = out[:, M - 1].real
+    return out, alpha, beta, scale, rev
+
+
+def features(normalised) -> np.ndarray:
+    """The look-up vectors of rows of normalised coefficients (see :meth:`Normalised.vector`), ``(n, 4M + 1)``."""
+    A = np.asarray(normalised)
+    M = (A.shape[1] - 1) // 2
+    cols = []
+    for k, m in enumerate(range(-M, M + 1)):
+        if m in (0, 1):
+            continue
+        cols.append(A[:, k].real)
+        if m != -1:
+            cols.append(A[:, k].imag)
+    return np.stack(cols, axis=1)
 
 
 def variants(n: Normalised) -> list[np.ndarray]:

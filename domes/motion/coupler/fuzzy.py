@@ -46,6 +46,7 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.motion.coupler.fourier import resample
+from domes.motion.coupler.special import polyline_crossings
 
 
 def membership(s, a, b):
@@ -283,27 +284,5 @@ def _fatness(q, x):
 
 
 def _self_crossings(p):
-    """The points where the closed polyline crosses itself (a sweep over x-sorted segments)."""
-    a, b = p, np.roll(p, -1, axis=0)
-    lo, hi = np.minimum(a, b), np.maximum(a, b)
-    order = np.argsort(lo[:, 0])
-    n = len(p)
-    out = []
-    for idx, i in enumerate(order):
-        for j in order[idx + 1:]:
-            if lo[j, 0] > hi[i, 0]:
-                break
-            if abs(i - j) <= 1 or {i, j} == {0, n - 1}:
-                continue
-            if lo[j, 1] > hi[i, 1] or lo[i, 1] > hi[j, 1]:
-                continue
-            d1, d2 = b[i] - a[i], b[j] - a[j]
-            den = d1[0] * d2[1] - d1[1] * d2[0]
-            if den == 0:
-                continue
-            r = a[j] - a[i]
-            t = (r[0] * d2[1] - r[1] * d2[0]) / den
-            u = (r[0] * d1[1] - r[1] * d1[0]) / den
-            if 0 <= t < 1 and 0 <= u < 1:
-                out.append(a[i] + t * d1)
-    return out
+    """The points where the closed polyline crosses itself."""
+    return [p[i] + t * (p[(i + 1) % len(p)] - p[i]) for i, _, t, _ in polyline_crossings(p)]

@@ -59,7 +59,7 @@ def cusps(curve, circuit, ratio: float = CUSP_RATIO) -> list[SpecialPoint]:
     for i in range(n):
         a, b = speed[i - 1], speed[(i + 1) % n]
         s = speed[i]
-        if not (np.isfinite(s) and s <= a and s <= b and s < ratio * 10 * median):
+        if not (np.isfinite(s) and s <= a and s <= b and s < 0.25 * median):  # a dip worth locating
             continue
         q, at, smin = _refine_cusp(curve, circuit, i)
         if smin <= ratio * median:
@@ -88,7 +88,17 @@ def _refine_cusp(curve, circuit, i):
 
 def crossings(curve, circuit) -> list[SpecialPoint]:
     """Where ``circuit`` crosses itself (its crunodes), each located by re-sampling both passes."""
-    P = circuit.points
+    return _unique([_refine_crossing(curve, circuit, i, j, (t, u))
+                    for i, j, t, u in polyline_crossings(circuit.points)])
+
+
+def polyline_crossings(P) -> list[tuple[int, int, float, float]]:
+    """Where the closed polyline ``P`` crosses itself: ``(i, j, t, u)`` with ``i < j``, segment ``i`` at its
+    fraction ``t`` meeting segment ``j`` at ``u`` (a sweep over the segments sorted by ``x``).
+
+    >>> polyline_crossings(np.array([[0, 0], [1, 1], [1, 0], [0, 1]], dtype=float))
+    [(0, 2, 0.5, 0.5)]
+    """
     n = P.shape[0]
     seg_a, seg_b = P, np.roll(P, -1, axis=0)
     lo = np.minimum(seg_a, seg_b)
@@ -103,10 +113,11 @@ def crossings(curve, circuit) -> list[SpecialPoint]:
                 continue
             if lo[j, 1] > hi[i, 1] or lo[i, 1] > hi[j, 1]:
                 continue
-            hit = _intersect(seg_a[i], seg_b[i], seg_a[j], seg_b[j])
+            first, second = (i, j) if i < j else (j, i)
+            hit = _intersect(seg_a[first], seg_b[first], seg_a[second], seg_b[second])
             if hit is not None:
-                out.append(_refine_crossing(curve, circuit, min(i, j), max(i, j), hit))
-    return _unique(out)
+                out.append((int(first), int(second), float(hit[0]), float(hit[1])))
+    return out
 
 
 def _intersect(p1, p2, p3, p4):

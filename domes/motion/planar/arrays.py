@@ -152,6 +152,17 @@ def _condition(J):
     return np.where(np.isfinite(cond), cond, np.inf)
 
 
+def _solve(J, rhs):
+    """Solve a stack of small systems; 2 × 2 by Cramer's rule (no exception where one is singular: NaN there)."""
+    if J.shape[-2:] == (2, 2):
+        det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            x0 = (rhs[:, 0] * J[:, 1, 1] - J[:, 0, 1] * rhs[:, 1]) / det
+            x1 = (J[:, 0, 0] * rhs[:, 1] - J[:, 1, 0] * rhs[:, 0]) / det
+        return np.stack([x0, x1], axis=1)
+    return np.linalg.solve(J, rhs[..., None])[..., 0]
+
+
 def _rhs(n, g, loops, col, given, rates=None):
     """``−B·given`` (and ``− Ḃ·rates − J̇·rates`` when ``rates`` are given) of every configuration: ``(n, m)``."""
     rhs = np.zeros((n, g.equations))
@@ -191,13 +202,13 @@ def motion_many(kin, values: dict, order: int):
         ok = np.isfinite(cond)
         safe = np.where(ok[:, None, None], J, np.eye(len(g.unknowns)))
         col = {v: k for k, v in enumerate(g.unknowns)}
-        sol = np.linalg.solve(safe, _rhs(n, g, loops, col, rates)[..., None])[..., 0]
+        sol = _solve(safe, _rhs(n, g, loops, col, rates))
         sol[~ok] = np.nan
         rates.update({v: sol[:, k] for k, v in enumerate(g.unknowns)})
         if order == 1:
             continue
         _, _, loops = _stack(kin, g, values, rates)
-        sol = np.linalg.solve(safe, _rhs(n, g, loops, col, accels, rates)[..., None])[..., 0]
+        sol = _solve(safe, _rhs(n, g, loops, col, accels, rates))
         sol[~ok] = np.nan
         accels.update({v: sol[:, k] for k, v in enumerate(g.unknowns)})
     return rates, accels, residual, condition

@@ -1,0 +1,327 @@
+"""``domes curves``: the four-bar design space, coupler curves, their descriptors, the atlas and matching.
+
+>>> from domes.cli import main
+>>> main(["curves", "classify", "0.4", "1.2", "1.0", "1.4"])
+a, b, c, d = 0.4, 1.2, 1, 1.4 (L = 1): region 1: crank-rocker, input a shortest (the crank)
+Grashof: yes
+0
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+from domes.cli.common import confirm, progress_printer, write_output
+from domes.errors import InputError
+from domes.io.atlas import atlas_path, default_atlas, load_atlas, save_atlas
+from domes.io.curves import read_path, read_points
+from domes.io.files import check_target
+from domes.io.mechanisms import load_mechanism, save_mechanism
+from domes.motion.coupler.atlas import SIZES, Atlas, OpenAtlas, build, build_windows
+from domes.motion.coupler.curves import trace
+from domes.motion.coupler.designspace import classify
+from domes.motion.coupler.fourbar import four_bar
+from domes.motion.coupler.fourier import describe
+from domes.motion.coupler.fuzzy import parameters
+from domes.motion.coupler.match import CANDIDATES, match
+from domes.motion.coupler.special import crossings, cusps
+from domes.sketch.curves import Card, curves_html, joint_names, moving_svg
+
+FORMATS = ("text", "json", "csv", "html")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "curves",
+        help="coupler curves: classify a four-bar, trace and describe curves, build the atlas, match a wanted path",
+        description="Backward reasoning from a wanted coupler curve (seed 002 chapter 6): the four-bar design "
+        "space (Table 6-1), every circuit of a coupler curve traced by the kinematics backend with its cusps and "
+        "crossings, Fourier and fuzzy shape descriptors, the atlas of four-bar curves, and the four-bars that "
+        "trace a wanted path (atlas look-up, then least-squares refinement). See docs/curves.md.",
+    )
+    cv = p.add_subparsers(dest="curves_command", metavar="ACTION")
+    cv.required = True
+
+    q = cv.add_parser("classify", help="the design-space region and Grashof class of a four-bar's lengths",
+                      description="Normalise crank a, coupler b, output c and frame d (6-1)-(6-4) and name the "
+                      "sub-region of Table 6-1 (or the boundary, for a change-point mechanism).")
+    for name in ("a", "b", "c", "d"):
+        q.add_argument(name, type=float, help={"a": "crank (input)", "b": "coupler", "c": "output (follower)",
+                                              "d": "frame"}[name])
+    q.add_argument("--format", choices=("text", "json"), default="text")
+    q.set_defaults(func=run_classify)
+
+    for name, helptext in (("trace", "every circuit of a coupler curve, with its cusps and crossings"),
+                           ("describe", "the Fourier descriptor and fuzzy parameters of a curve")):
+        q = cv.add_parser(name, help=helptext, description=helptext[0].upper() + helptext[1:] + ". The curve is "
+                          "a mechanism file's coupler point, a four-bar given by --four-bar, or (describe) a "
+                          "file of points (CSV or JSON).")
+        q.add_argument("file", nargs="?", metavar="FILE",
+                       help="mechanism file (.json with links and joints), or for describe a points file")
+        q.add_argument("--four-bar", nargs=6, type=float, metavar=("A", "B", "C", "D", "U", "V"),
+                       help="a four-bar in the chapter's convention: lengths and coupler point (u, v)")
+        q.add_argument("--point", help="the coupler point to trace (default: the file's first point)")
+        q.add_argument("--samples", type=int, default=720, help="samples per input turn (default 720)")
+        q.add_argument("--format", choices=FORMATS if name == "trace" else ("text", "json"), default="text")
+        q.add_argument("--output", "-o", help="write to this file (atomically) instead of standard output")
+        q.set_defaults(func=run_trace if name == "trace" else run_describe)
+
+    q = cv.add_parser("atlas", help="build the atlas of four-bar coupler curves, or say what one holds",
+                      description="Sample the four-bar design space and the coupler plane (-4 <= u, v <= 4), trace "
+                      "every linkage, and store each curve's normalised Fourier descriptor (HDF5). The small atlas "
+                      "is built in your data folder when first needed (about 10 s); the large one on request.")
+    q.add_argument("action", choices=("build", "info"))
+    q.add_argument("--size", choices=sorted(SIZES), default="small", help="which atlas (default: small)")
+    q.add_argument("--open", action="store_true", help="the atlas's index of open paths (windows of its curves)")
+    q.add_argument("--file", help="an atlas file instead of the one in your data folder")
+    q.add_argument("--yes", "-y", action="store_true", help="build the large atlas without asking")
+    q.add_argument("--workers", type=int, default=1, metavar="N",
+                   help="share the linkages among N processes (default 1; the atlas is the same)")
+    _progress(q)
+    q.set_defaults(func=run_atlas)
+
+    q = cv.add_parser("match", help="the four-bars whose coupler curve passes through a wanted path",
+                      description="Look the wanted closed path (points, CSV or JSON) up in the atlas and refine "
+                      "the nearest linkages by least squares until they pass through every point; report the "
+                      "fit error before and after, and the linkage placed in the path's frame.")
+    q.add_argument("file", metavar="POINTS", help="the wanted path: x, y per line (CSV) or a JSON list of [x, y]")
+    q.add_argument("--atlas", default="small", metavar="SIZE|FILE", help="atlas size (small, large) or file")
+    q.add_argument("--open", action="store_true",
+                   help="the path is an open stretch, not a closed curve (also: \"closed\": false in a JSON file)")
+    q.add_argument("--results", type=int, default=3, help="fitting linkages to find (default 3)")
+    q.add_argument("--candidates", type=int, default=CANDIDATES,
+                   help=f"atlas candidates refined at most (default {CANDIDATES})")
+    q.add_argument("--tol", type=float, default=None,
+                   help="largest distance accepted, relative to the path's size (default 1e-6; open paths 1e-3)")
+    q.add_argument("--format", choices=("text", "json", "html"), default="text")
+    q.add_argument("--output", "-o", help="write to this file (atomically) instead of standard output")
+    q.add_argument("--save", metavar="FILE.json", help="save the best linkage as a mechanism file")
+    _progress(q)
+    q.set_defaults(func=run_match)
+
+
+def _progress(q):
+    shown = q.add_mutually_exclusive_group()
+    shown.add_argument("--progress", dest="progress", action="store_true", default=None, help="show progress on stderr")
+    shown.add_argument("--no-progress", dest="progress", action="store_false", help="never show progress")
+
+
+# -- classify ---------------------------------------------------------------------------------
+
+
+def run_classify(args) -> int:
+    p = classify(args.a, args.b, args.c, args.d)
+    if args.format == "json":
+        json.dump({"a": p.a, "b": p.b, "c": p.c, "d": p.d, "scale": p.scale, "region": p.region,
+                   "boundary": list(p.boundary), "regions": list(p.regions), "mechanism": p.mechanism,
+                   "grashof": p.grashof}, sys.stdout, indent=1)
+        print()
+    else:
+        print(p.message)
+        print(f"Grashof: {'yes' if p.grashof else 'no'}" + (" (at its limit)" if p.region is None else ""))
+    return 0
+
+
+# -- trace and describe -------------------------------------------------------------------------
+
+
+def _mechanism(args):
+    if args.four_bar and args.file:
+        raise InputError("give a mechanism file or --four-bar, not both")
+    if args.four_bar:
+        return four_bar(*args.four_bar)
+    if not args.file:
+        raise InputError("give a mechanism file (FILE.json) or --four-bar A B C D U V")
+    return load_mechanism(args.file)
+
+
+def run_trace(args) -> int:
+    if args.output:
+        check_target(args.output)
+    mech = _mechanism(args)
+    curve = trace(mech, args.point, args.samples, extra=joint_names(mech))
+    specials = [(cusps(curve, c), crossings(curve, c)) for c in curve.circuits]
+    if args.format == "csv":
+        lines = ["circuit,index,input_deg,x,y"]
+        for k, c in enumerate(curve.circuits, 1):
+            for i, (q, (x, y)) in enumerate(zip(c.inputs, c.points)):
+                lines.append(f"{k},{i},{math.degrees(q)!r},{x!r},{y!r}")
+        write_output("\n".join(lines) + "\n", args.output)
+    elif args.format == "json":
+        doc = {"mechanism": mech.name, "point": curve.point, "circuits": [
+            {"full_turn": c.full_turn, "turns": c.turns, "length": c.length,
+             "limits_deg": [math.degrees(d.input) for d in c.limits],
+             "branch_points_deg": [math.degrees(d.input) for d in c.branch_points],
+             "cusps": [_special(s) for s in cu], "crossings": [_special(s) for s in cr],
+             "inputs_deg": np.degrees(c.inputs).tolist(), "points": c.points.tolist()}
+            for c, (cu, cr) in zip(curve.circuits, specials)]}
+        write_output(json.dumps(doc, indent=1) + "\n", args.output)
+    elif args.format == "html":
+        cards = [Card(str(k), f"circuit {k}", moving_svg(mech, c, point=curve.point), _card_props(c, cu, cr))
+                 for k, (c, (cu, cr)) in enumerate(zip(curve.circuits, specials), 1)]
+        write_output(curves_html(cards, f"Coupler curve of {curve.point}: {mech.name}", curve.message), args.output)
+    else:
+        out = [curve.message]
+        for k, (c, (cu, cr)) in enumerate(zip(curve.circuits, specials), 1):
+            out.append(f"circuit {k}: " + "; ".join(f"{name} {value}" for name, value in _card_props(c, cu, cr)))
+        write_output("\n".join(out) + "\n", args.output)
+    return 0
+
+
+def _special(s):
+    return {"at": list(s.at), "inputs_deg": [math.degrees(q) for q in s.inputs], "measure": s.measure}
+
+
+def _card_props(c, cu, cr):
+    props = [("turns", f"{c.turns:.3g}"), ("length", f"{c.length:.6g}")]
+    if c.limits:
+        props.append(("limits", ", ".join(f"{math.degrees(d.input) % 360:.6g}°" for d in c.limits)))
+    if c.branch_points:
+        props.append(("branch points", ", ".join(f"{math.degrees(d.input) % 360:.6g}°" for d in c.branch_points)))
+    props.append(("cusps", ", ".join(f"({s.at[0]:.6g}, {s.at[1]:.6g})" for s in cu) or "none"))
+    props.append(("crossings", ", ".join(f"({s.at[0]:.6g}, {s.at[1]:.6g})" for s in cr) or "none"))
+    return tuple(props)
+
+
+def run_describe(args) -> int:
+    if args.output:
+        check_target(args.output)
+    if args.file and not args.four_bar and not _is_mechanism_file(args.file):
+        curves = [("points", read_points(args.file))]
+    else:
+        mech = _mechanism(args)
+        curve = trace(mech, args.point, args.samples)
+        curves = [(f"circuit {k}", c.points) for k, c in enumerate(curve.circuits, 1)]
+    docs = []
+    for name, pts in curves:
+        d = describe(pts)
+        f = parameters(pts)
+        docs.append({"curve": name, "fourier": {str(m): [a.real, a.imag] for m, a in d.coefficients.items()},
+                     "translation": [d.translation.real, d.translation.imag], "rotation_deg": math.degrees(d.rotation),
+                     "scale": d.scale, "start_deg": math.degrees(d.start), "reversed": d.reversed,
+                     "fuzzy": {"type": f.type, "S": list(f.values), "crossings": f.crossings}})
+    if args.format == "json":
+        write_output(json.dumps(docs, indent=1) + "\n", args.output)
+        return 0
+    out = []
+    for doc in docs:
+        out.append(f"{doc['curve']}: Fourier descriptor (normalised; rotation {doc['rotation_deg']:.6g}°, scale "
+                   f"{doc['scale']:.6g}, start {doc['start_deg']:.6g}°{', traversed backwards' if doc['reversed'] else ''})")
+        for m, (re, im) in doc["fourier"].items():
+            out.append(f"  a[{int(m):+d}] = {re: .6f} {im:+.6f}i")
+        S = ", ".join(f"S{k}={v:.4g}" for k, v in enumerate(doc["fuzzy"]["S"], 1))
+        out.append(f"  fuzzy type {doc['fuzzy']['type']} ({doc['fuzzy']['crossings']} crossings): {S}")
+    write_output("\n".join(out) + "\n", args.output)
+    return 0
+
+
+def _is_mechanism_file(path) -> bool:
+    if not str(path).lower().endswith(".json"):
+        return False
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = json.load(f)
+    except (OSError, ValueError):
+        return False
+    return isinstance(doc, dict) and "joints" in doc
+
+
+# -- atlas and match --------------------------------------------------------------------------
+
+
+def run_atlas(args) -> int:
+    progress = progress_printer(args.progress)
+    kind = "open" if args.open else "closed"
+    where = args.file or atlas_path(args.size, kind)
+    if args.action == "info":
+        table = load_atlas(where)
+        meta = table.meta
+        what = "windows of curves" if meta.get("kind") == "open" else "curves"
+        print(f"{where}: atlas {meta.get('name')}: {table.count:,} {what} of {len(table.linkages):,} four-bars × "
+              f"coupler points every {meta.get('step')} over ±{meta.get('plane')}; built in "
+              f"{meta.get('seconds', float('nan')):.1f} s")
+        return 0
+    if args.file:
+        check_target(where)
+    if args.size == "large":
+        confirm("curves atlas build", "the large atlas takes a few minutes and a few hundred MB", args.yes)
+    if args.workers < 1:
+        raise InputError(f"--workers {args.workers}: give at least 1")
+    make = build_windows if args.open else build
+    if args.workers == 1:
+        table = make(SIZES[args.size], progress)
+    else:
+        with ProcessPoolExecutor(max_workers=args.workers) as pool:
+            table = make(SIZES[args.size], progress, pool)
+    if not args.file:
+        atlas_path(args.size, kind).parent.mkdir(parents=True, exist_ok=True)
+    save_atlas(table, where)
+    print(f"{where}: {table.count:,} {'windows' if args.open else 'curves'} of {len(table.linkages):,} four-bars, "
+          f"built in {table.meta['seconds']:.1f} s"
+          + (f" by {args.workers} workers" if args.workers > 1 else ""))
+    return 0
+
+
+def run_match(args) -> int:
+    for path in (args.output, args.save):
+        if path:
+            check_target(path)
+    progress = progress_printer(args.progress)
+    wanted, closed = read_path(args.file)
+    kind = "open" if args.open or closed is False else "closed"
+    if args.atlas in SIZES:
+        table = default_atlas(args.atlas, progress, kind)
+    else:
+        table = load_atlas(args.atlas)
+    if table.meta.get("kind", "closed") != kind:
+        raise InputError(f"{args.atlas}: an atlas of {table.meta.get('kind')} paths, but the path is {kind}")
+    atlas = OpenAtlas(table) if kind == "open" else Atlas(table)
+    result = match(wanted, atlas, args.results, args.candidates, args.tol, progress=progress)
+    if args.save and result.fits and result.fits[0].mechanism is not None:
+        save_mechanism(result.fits[0].mechanism, args.save)
+    if args.format == "json":
+        doc = {"message": result.message, "tried": result.tried, "lookup_ms": result.lookup_seconds * 1e3,
+               "refine_s": result.refine_seconds, "size": result.size, "fits": [
+                   {"success": f.success, "lengths": list(f.lengths), "coupler": list(f.coupler),
+                    "before": {"max": f.before[0], "rms": f.before[1]}, "after": {"max": f.after[0], "rms": f.after[1]},
+                    "mechanism": f.mechanism.to_dict() if f.mechanism else None} for f in result.fits]}
+        write_output(json.dumps(doc, indent=1) + "\n", args.output)
+    elif args.format == "html":
+        cards = []
+        for k, f in enumerate(result.fits, 1):
+            if f.mechanism is None:
+                continue
+            curve = trace(f.mechanism, "P", 360, extra=joint_names(f.mechanism))
+            circuit = min(curve.circuits, key=lambda c: _nearest(c.points, wanted))
+            cards.append(Card(str(k), f"match {k}: {'fits' if f.success else 'nearest'}",
+                              moving_svg(f.mechanism, circuit, wanted), _fit_props(f)))
+        write_output(curves_html(cards, "Four-bars for a wanted path", result.message), args.output)
+    else:
+        out = [result.message]
+        for k, f in enumerate(result.fits, 1):
+            out.append(f"{k}. " + "; ".join(f"{name} {value}" for name, value in _fit_props(f)))
+        write_output("\n".join(out) + "\n", args.output)
+    return 0 if result.success else 1
+
+
+def _nearest(points, wanted):
+    d = np.min(np.hypot(*(points[:, None, :] - wanted[None, :, :]).transpose(2, 0, 1)), axis=0)
+    return float(np.max(d))
+
+
+def _fit_props(f):
+    a, b, c, d = f.lengths
+    props = [("fits", "yes" if f.success else "no"), ("crank, coupler, rocker, frame", f"{a:.6g}, {b:.6g}, {c:.6g}, {d:.6g}"),
+             ("coupler point (u, v)", f"{f.coupler[0]:.6g}, {f.coupler[1]:.6g}"),
+             ("largest distance", f"{f.after[0]:.3g} (before refinement {f.before[0]:.3g})"),
+             ("RMS distance", f"{f.after[1]:.3g}")]
+    if f.mechanism is not None:
+        A, D = f.mechanism.joint("A").at, f.mechanism.joint("D").at
+        props.append(("frame pivots A, D", f"({A[0]:.6g}, {A[1]:.6g}), ({D[0]:.6g}, {D[1]:.6g})"))
+    return tuple(props)

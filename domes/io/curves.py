@@ -1,0 +1,90 @@
+"""Wanted paths on file: points ``x, y`` in CSV (``#`` comments and one header line allowed) or JSON.
+
+JSON is either a list of ``[x, y]`` pairs or an object with ``"points"``
+(and optionally ``"closed"``, true by default). Every value must be a finite
+number; an error names the file, the line (CSV) or the entry (JSON).
+
+>>> import tempfile, os
+>>> path = os.path.join(tempfile.mkdtemp(), "path.csv")
+>>> _ = open(path, "w").write("x,y\\n0,0\\n1,0\\n1,1\\n")
+>>> read_points(path).tolist()
+[[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]]
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from domes.errors import InputError
+from domes.io.files import read_text
+
+
+def read_points(path: str | Path) -> np.ndarray:
+    """The ``(n, 2)`` points of a wanted path (CSV or JSON, chosen by the file's suffix or its first character)."""
+    return read_path(path)[0]
+
+
+def read_path(path: str | Path) -> tuple[np.ndarray, bool | None]:
+    """The points of a wanted path and whether the file says it is closed (JSON ``"closed"``; else None)."""
+    path = Path(path)
+    text = read_text(path)
+    if path.suffix.lower() == ".json" or text.lstrip().startswith(("[", "{")):
+        return _from_json(path, text)
+    return _from_csv(path, text), None
+
+
+def _from_csv(path, text):
+    rows = []
+    header = False
+    for number, row in enumerate(csv.reader(io.StringIO(text)), 1):
+        cells = [c.strip() for c in row if c.strip()]
+        if not cells or cells[0].startswith("#"):
+            continue
+        if len(cells) < 2:
+            raise InputError(f"{path}, line {number}: expected two numbers x, y, got {row!r}")
+        try:
+            x, y = float(cells[0]), float(cells[1])
+        except ValueError:
+            if not rows and not header:
+                header = True
+                continue  # the header line
+            raise InputError(f"{path}, line {number}: {cells[0]!r}, {cells[1]!r} are not numbers") from None
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise InputError(f"{path}, line {number}: the point ({x}, {y}) is not finite")
+        rows.append((x, y))
+    if not rows:
+        raise InputError(f"{path}: no points (expected lines of x, y)")
+    return np.array(rows)
+
+
+def _from_json(path, text):
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{path}: not JSON: {exc.msg} at line {exc.lineno}") from None
+    pts = doc.get("points") if isinstance(doc, dict) else doc
+    closed = doc.get("closed") if isinstance(doc, dict) else None
+    if closed is not None and not isinstance(closed, bool):
+        raise InputError(f"{path}: \"closed\" must be true or false, got {closed!r}")
+    if not isinstance(pts, list) or not pts:
+        raise InputError(f"{path}: expected a list of [x, y] points (or an object with \"points\")")
+    out = []
+    for k, p in enumerate(pts):
+        if not (isinstance(p, (list, tuple)) and len(p) == 2 and all(isinstance(v, (int, float)) for v in p)):
+            raise InputError(f"{path}: point {k} must be [x, y] with two numbers, got {p!r}")
+        if not all(math.isfinite(v) for v in p):
+            raise InputError(f"{path}: point {k} ({p[0]}, {p[1]}) is not finite")
+        out.append((float(p[0]), float(p[1])))
+    return np.array(out), closed
+
+
+def points_csv(points, header: str = "x,y") -> str:
+    """Points as CSV text (full precision)."""
+    lines = [header] + [f"{x!r},{y!r}" for x, y in np.asarray(points, dtype=float).tolist()]
+    return "\n".join(lines) + "\n"
