@@ -110,8 +110,9 @@ class Dialogue:
                             parse_scene_answer, default or "none", HELP["scene"])
         if qid == "verify":
             kept = {c["id"]: LabelledChain.from_dict(c) for c in self.world.run_result.kept}
-            return Question("verify", "Verify dimensions? (none, or CANDIDATE FILE.json CHECK; CHECK is rotatability "
-                            "or range OUTPUT FROM:TO)", verify_parser(kept), "none", HELP["verify"])
+            return Question("verify", "Verify dimensions? (none; CANDIDATE FILE.json CHECK, CHECK is rotatability "
+                            "or range OUTPUT FROM:TO; or path POINTS.csv: which four-bar traces it?)",
+                            verify_parser(kept), "none", HELP["verify"])
         if qid == "relevance_overrides":
             ids = list(engine.attr("relevance_default").ids)
             return Question("relevance_overrides", "Override relevance? (none, or criterion ids: ID or +ID relevant, -ID irrelevant)",

@@ -181,7 +181,9 @@ HELP = {
     "relevance_overrides": "none keeps the relevant criteria as listed; ID or +ID declares a criterion relevant, "
                            "-ID irrelevant (several, separated by spaces).",
     "verify": "none, or a kept candidate, a dimensioned mechanism file of it and a check: 'rotatability' or 'range "
-              "OUTPUT FROM:TO', e.g. 2 mechanisms/suzuki-rm250x.json range slide:g -10:10.",
+              "OUTPUT FROM:TO', e.g. 2 mechanisms/suzuki-rm250x.json range slide:g -10:10; or 'path FILE' with a "
+              "wanted coupler path (points x, y, CSV or JSON): the four-bars that trace it, from the atlas of "
+              "coupler curves, refined and checked, drawn in FILE.matches.html (docs/curves.md).",
 }
 
 
@@ -225,12 +227,16 @@ def mechanism_for(candidate: LabelledChain, path: str) -> Mechanism:
 
 
 def verify_parser(kept: dict[int, LabelledChain]):
-    """``none``, or ``CANDIDATE FILE CHECK`` (see :mod:`domes.design.verify`)."""
+    """``none``, ``CANDIDATE FILE CHECK`` (see :mod:`domes.design.verify`), or ``path FILE`` (a wanted coupler path)."""
 
     def parse(text: str):
         words = text.split()
         if not words or words == ["none"]:
             return None
+        if words[0] == "path":
+            if len(words) != 2 or not Path(words[1]).is_file():
+                raise InputError("answer: path FILE, with FILE a file of points x, y (CSV or JSON) that exists")
+            return ("path", words[1])
         if len(words) < 3 or not words[0].isdigit():
             raise InputError("answer none, or: CANDIDATE FILE CHECK (e.g. 2 mechanisms/suzuki-rm250x.json range slide:g -10:10)")
         candidate = int(words[0])

@@ -16,6 +16,7 @@ from typing import Callable
 from domes.design.verify import verify as verify_mechanism
 from domes.errors import DomesError
 from domes.expert.facts import STRUCTURAL, Phase, Relation
+from domes.expert.paths import coupler_path_text
 from domes.expert.reasoner import recognise
 from domes.expert.run import DesignRun, design, scene_roles
 from domes.io.scenes import load_scene, scene_names
@@ -104,7 +105,10 @@ class World:
                 self._leave_phase(engine, "verify")
                 engine.declare(Phase(name="review"))
             else:
-                self.verify(*value)
+                if value[0] == "path":
+                    self.match_path(value[1])
+                else:
+                    self.verify(*value)
                 engine.ask("verify")
         elif question == "satisfied":
             self._leave_phase(engine, "review")
@@ -216,6 +220,18 @@ class World:
             text = f"verified candidate {candidate} with {path}: {verify_mechanism(mech, check).message}"
         except DomesError as exc:
             text = f"verification of candidate {candidate} with {path} failed: {exc}"
+        self.say(text)
+        self.run_result = dataclasses.replace(self.run_result, notes=self.run_result.notes + (text,))
+
+    def match_path(self, path: str) -> None:
+        """Which four-bars trace the wanted path in ``path``: atlas look-up, refinement, check by the backend.
+
+        The answer joins the design's notes; the matches are drawn in ``PATH.matches.html``.
+        """
+        try:
+            text = coupler_path_text(path, self.progress)
+        except DomesError as exc:
+            text = f"the wanted path {path} could not be matched: {exc}"
         self.say(text)
         self.run_result = dataclasses.replace(self.run_result, notes=self.run_result.notes + (text,))
 

@@ -233,3 +233,25 @@ def test_help_on_loops_and_names(casebase):
     assert "L = joints − links + 1" in said and "a six-bar (Watt, Stephenson) 2" in said
     assert "Names the criteria and scenes know:" in said and "swing arm" in said and "shock absorber" in said
     assert outcome.frame is not None
+
+
+@pytest.mark.slow
+def test_a_wanted_coupler_path_is_answered_with_four_bars_that_trace_it(casebase, tmp_path, monkeypatch):
+    # Backward reasoning at the verification step (seed 002 §6-3, §6-4): the designer gives the path a
+    # point must trace (the figure-eight of Fig. 6-33, placed and scaled); the expert looks it up in the
+    # atlas (built in the scratch DOMES_HOME on first use), refines the nearest four-bars, and draws them.
+    monkeypatch.setenv("DOMES_HOME", str(tmp_path / "home"))
+    wanted = tmp_path / "figure-eight.csv"
+    wanted.write_text((ROOT / "examples" / "curves" / "figure-eight.csv").read_text())
+    text = WINDOW_LIFTER.replace("verify: none\n", f"verify: path {tmp_path / 'missing.csv'}\n"
+                                                   f"verify: path {wanted}\nverify: none\n")
+    outcome, said = run(casebase, text)
+    rejected = [e["rejected"] for e in outcome.exchanges if "rejected" in e]
+    assert len(rejected) == 1 and "exists" in rejected[0]
+    lines = said[said.index("the wanted path"):].splitlines()
+    assert "48 points, closed" in lines[0] and lines[1].startswith("  1. crank") and "does not fit" not in lines[1]
+    largest = float(lines[1].rsplit("largest distance ", 1)[1])
+    assert largest < 1e-6 * 10  # the path spans about 10 units; matched to 1e-6 of its size
+    page = Path(str(wanted) + ".matches.html")
+    assert page.is_file() and "<svg" in page.read_text()
+    assert (tmp_path / "home" / "atlas").is_dir()
