@@ -54,6 +54,7 @@ BASE = {
     "draw": ["draw", "ErOg"],
     "cases record": ["cases", "--db", "DB", "record", "examples/design/gripper.answers", "--name", "fuzzed"],
     "cases remove": ["cases", "--db", "DB", "remove", "robot-gripper-1"],
+    "synthesize": ["synthesize", "examples/synthesis/ch2-example-4.json"],
     "curves classify": ["curves", "classify", "0.4", "1.2", "1.0", "1.4"],
     "curves trace": ["curves", "trace", "--four-bar", "0.4", "1.2", "1.0", "1.4", "1.3", "0.2", "--samples", "90"],
     "curves describe": ["curves", "describe", "--four-bar", "1", "3.5", "3", "2", "0", "-2"],
@@ -170,9 +171,9 @@ def test_no_argument_ends_in_a_traceback(scratch, capsys, mutation):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("command", sorted(c for c in BASE if c.startswith("curves")))
+@pytest.mark.parametrize("command", sorted(c for c in BASE if c.startswith(("curves", "synthesize"))))
 def test_every_curves_argument_ends_cleanly(scratch, capsys, command):
-    # every mutation of the coupler-curve commands (few and quick), not a sample
+    # every mutation of the coupler-curve and synthesis commands (few and quick), not a sample
     for cmd, argument, value in mutations():
         if cmd == command:
             status = ends_cleanly(argv(cmd, argument, value, scratch), capsys)

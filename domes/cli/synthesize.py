@@ -1,0 +1,103 @@
+"""``domes synthesize``: dimension a four-bar for a task file (guidance or function generation).
+
+>>> from domes.cli import main
+>>> main(["synthesize", "examples/synthesis/ch2-example-4.json"])         # doctest: +ELLIPSIS
+# complete: ch2-example-4: 1 real root(s), 1 linkage(s), 1 usable; ... ms
+1. usable; crank 0.63234, coupler 0.342974, rocker 0.652519, frame 1; non-Grashof (triple rocker); ...
+   pivots A (0, 0), D (1, 0); moving pivots B (0.346046, 0.52925), C (0.375, 0.1875); largest residual ...
+   inversion (2-109) and Freudenstein's equation agree on the lengths to ...
+0
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+from domes.cli.common import write_output
+from domes.design.synthesis import synthesize
+from domes.design.synthesis.solve import generator_fourbar
+from domes.io.files import check_target
+from domes.io.tasks import load_task
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "synthesize",
+        help="dimension a four-bar for a task file: rigid-body guidance or function generation, every solution",
+        description="Dimensional synthesis (seed 002 §2-3): every real four-bar that meets the task's precision "
+        "positions (guidance: 3 positions in closed form, 4 on the circle-point curve, 5 at the Burmester "
+        "points; function generation: 3, 4 or 5 precision points, with the structural error over the range and "
+        "optional re-spacing), each checked (branch and order defects, Grashof class, transmission angle) and "
+        "written as a mechanism file for domes kinematics and domes draw. See docs/synthesis.md.",
+    )
+    p.add_argument("task", metavar="TASK.json", help="the task file (examples in examples/synthesis/)")
+    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("--all", action="store_true", help="also list the rejected solutions (text)")
+    p.add_argument("--output", "-o", help="write to this file (atomically) instead of standard output")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    if args.output:
+        check_target(args.output)
+    result = synthesize(load_task(args.task))
+    text = _json(result) if args.format == "json" else _text(result, args.all)
+    write_output(text, args.output)
+    return 0 if result.success else 1
+
+
+def _solution_dict(s, name):
+    out = {"mechanism": s.fourbar.mechanism(name).to_dict(), "usable": s.usable, "defects": list(s.defects),
+           "lengths": dict(zip(("crank", "coupler", "rocker", "frame"), s.fourbar.lengths)),
+           "residuals": list(s.residuals), "grashof": s.checks.grashof, "crank_rotates": s.checks.crank_rotates,
+           "min_transmission_deg": s.checks.min_transmission_deg,
+           "crank_angles_deg": list(s.checks.crank_angles_deg), "notes": list(s.notes)}
+    if s.structural is not None:
+        out["structural_error_deg"] = {"largest": math.degrees(s.structural.largest),
+                                       "extrema": [math.degrees(e) for e in s.structural.extrema]}
+    if s.respaced is not None:
+        out["respaced"] = {"points": list(s.respaced.points),
+                           "largest_deg": math.degrees(s.respaced.after.largest),
+                           "extrema_deg": [math.degrees(e) for e in s.respaced.after.extrema],
+                           "mechanism": _generator_mechanism(s.respaced.generator, name)}
+    return out
+
+
+def _generator_mechanism(g, name):
+    return generator_fourbar(g, g.theta0, g.phi0).mechanism(name + " (re-spaced)").to_dict()
+
+
+def _json(result) -> str:
+    data = {"task": result.task_name, "kind": result.kind, "status": str(result.status), "message": result.message,
+            "roots": result.roots, "seconds": result.seconds, "notes": list(result.notes),
+            "solutions": [_solution_dict(s, f"{result.task_name} solution {k}")
+                          for k, s in enumerate(result.solutions, 1)]}
+    return json.dumps(data, indent=1) + "\n"
+
+
+def _fmt(p) -> str:
+    return f"({p[0]:.6g}, {p[1]:.6g})"
+
+
+def _text(result, everything: bool) -> str:
+    lines = [f"# {result.message}"] + [f"# {n}" for n in result.notes]
+    shown = result.solutions if everything else result.usable
+    for k, s in enumerate(shown, 1):
+        a, b, c, d = s.fourbar.lengths
+        state = "usable" if s.usable else "rejected: " + "; ".join(s.defects)
+        lines.append(f"{k}. {state}; crank {a:.6g}, coupler {b:.6g}, rocker {c:.6g}, frame {d:.6g}; "
+                     f"{s.checks.grashof}; smallest transmission angle {s.checks.min_transmission_deg:.1f}°")
+        lines.append(f"   pivots A {_fmt(s.fourbar.a0)}, D {_fmt(s.fourbar.b0)}; moving pivots B {_fmt(s.fourbar.a1)}, "
+                     f"C {_fmt(s.fourbar.b1)}; largest residual {s.residual:.1e}")
+        for note in s.notes:
+            lines.append(f"   {note}")
+        if s.respaced is not None:
+            r = s.respaced
+            lines.append(f"   re-spaced precision points {', '.join(f'{x:.6g}' for x in r.points)}: largest error "
+                         f"{math.degrees(r.after.largest):.4g}° (extrema equal within {100 * r.after.spread:.2g}%, "
+                         f"{r.iterations} steps)")
+    if not everything and len(result.usable) < len(result.solutions):
+        lines.append(f"# {len(result.solutions) - len(result.usable)} rejected solution(s) not shown (--all lists them)")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,142 @@
+"""Synthesised four-bars as mechanisms, with the checks every solution gets (issue 13, item 6).
+
+A solution is four pivots in the first precision position: frame pivots
+``a0``, ``b0``, moving pivots ``a1`` (crank pin) and ``b1`` (rocker pin),
+and the body's point. :func:`check` says whether the linkage can do the task
+as a mechanism: assembled in one mode at every precision position (no
+branch defect), positions reached in order as the crank turns one way (no
+order defect), its Grashof class, no dead point between consecutive positions (the loop closes all
+the way), its Grashof class, and the smallest transmission angle at the
+precision positions.
+
+>>> fb = FourBar((0, 0), (0, 1), (3, 1), (3, 0))
+>>> fb.lengths
+(1.0, 3.0, 1.0, 3.0)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism
+
+
+def _cross(u, v) -> float:
+    return float(u[0] * v[1] - u[1] * v[0])
+
+
+@dataclass(frozen=True)
+class FourBar:
+    """Pivots ``a0, a1, b1, b0`` in the first precision position, and the coupler point ``point`` (or None)."""
+
+    a0: tuple[float, float]
+    a1: tuple[float, float]
+    b1: tuple[float, float]
+    b0: tuple[float, float]
+    point: tuple[float, float] | None = None
+
+    def __post_init__(self):
+        for name in ("a0", "a1", "b1", "b0", "point"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, _pt(value))
+
+    @property
+    def lengths(self) -> tuple[float, float, float, float]:
+        """Crank ``|a1 − a0|``, coupler ``|b1 − a1|``, rocker ``|b1 − b0|``, frame ``|b0 − a0|``."""
+        return (math.dist(self.a0, self.a1), math.dist(self.a1, self.b1), math.dist(self.b1, self.b0),
+                math.dist(self.a0, self.b0))
+
+    def mechanism(self, name: str = "synthesised four-bar") -> Mechanism:
+        """The linkage in the kinematics file format, drawn at the first precision position; input at ``A``."""
+        points = [CouplerPoint("P", "coupler", tuple(self.point))] if self.point is not None else []
+        return Mechanism.build(
+            name, ["frame", "crank", "coupler", "rocker"], "frame",
+            [Joint("A", "R", ("frame", "crank"), _pt(self.a0)), Joint("B", "R", ("crank", "coupler"), _pt(self.a1)),
+             Joint("C", "R", ("coupler", "rocker"), _pt(self.b1)), Joint("D", "R", ("rocker", "frame"), _pt(self.b0))],
+            [Input("A")], points=points)
+
+
+def _pt(p) -> tuple[float, float]:
+    return (float(p[0]), float(p[1]))
+
+
+@dataclass(frozen=True)
+class Checks:
+    """What a solution is worth as a mechanism; ``defects`` lists the reasons to reject it (empty: usable)."""
+
+    grashof: str
+    crank_rotates: bool
+    min_transmission_deg: float
+    crank_angles_deg: tuple[float, ...]
+    defects: tuple[str, ...] = field(default_factory=tuple)
+
+    @property
+    def usable(self) -> bool:
+        return not self.defects
+
+
+def grashof_class(a: float, b: float, c: float, d: float) -> tuple[str, bool]:
+    """The Grashof class of crank ``a``, coupler ``b``, rocker ``c``, frame ``d`` and whether the crank turns fully."""
+    s, l = min(a, b, c, d), max(a, b, c, d)
+    p_q = a + b + c + d - s - l
+    if s + l > p_q + 1e-12 * l:
+        return "non-Grashof (triple rocker)", False
+    kind = "change point" if abs(s + l - p_q) <= 1e-12 * l else "Grashof"
+    if s == d:
+        return f"{kind} double crank", True
+    if s == a:
+        return f"{kind} crank-rocker", True
+    if s == b:
+        return f"{kind} double rocker (coupler shortest)", False
+    return f"{kind} rocker-crank (the rocker turns)", False
+
+
+def check(fb: FourBar, positions_a, positions_b) -> Checks:
+    """Check a four-bar whose moving pivots are at ``positions_a[j]`` and ``positions_b[j]`` in position ``j``."""
+    a0, b0 = np.asarray(fb.a0, float), np.asarray(fb.b0, float)
+    A, B = np.asarray(positions_a, float), np.asarray(positions_b, float)
+    a, b, c, d = fb.lengths
+    kind, turns = grashof_class(a, b, c, d)
+    defects = []
+    if min(a, b, c, d) <= 1e-9 * max(a, b, c, d):
+        defects.append("a link of zero length")
+    modes = [np.sign(_cross(B[j] - A[j], b0 - B[j])) for j in range(len(A))]
+    if len({m for m in modes if m != 0}) > 1:
+        defects.append("branch defect: the precision positions lie on both assembly modes")
+    angles = np.unwrap([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
+    steps = np.diff(angles)
+    if steps.size and not (np.all(steps > 0) or np.all(steps < 0)):
+        defects.append("order defect: the crank does not reach the positions in order turning one way")
+    elif steps.size and abs(angles[-1] - angles[0]) >= 2 * math.pi:
+        defects.append("order defect: the crank turns more than once between the first and last positions")
+    elif steps.size:
+        stuck = _dead_between(fb, angles)
+        if stuck is not None:
+            defects.append(f"dead point: the crank cannot turn from position {stuck[0]} to {stuck[0] + 1} (the loop "
+                           f"does not close near crank angle {stuck[1]:.1f}°)")
+    mu = []
+    for j in range(len(A)):
+        u, v = A[j] - B[j], b0 - B[j]
+        cos = float(np.dot(u, v) / (np.linalg.norm(u) * np.linalg.norm(v))) if np.linalg.norm(u) * np.linalg.norm(v) else 1
+        ang = math.degrees(math.acos(max(-1.0, min(1.0, cos))))
+        mu.append(min(ang, 180 - ang))
+    return Checks(kind, turns, min(mu) if mu else float("nan"), tuple(float(math.degrees(x)) for x in angles),
+                  tuple(defects))
+
+
+def _dead_between(fb: FourBar, angles) -> tuple[int, float] | None:
+    """The first pair of consecutive positions the crank cannot turn between, and where, or None."""
+    a, b, c, _ = fb.lengths
+    a0, b0 = np.asarray(fb.a0, float), np.asarray(fb.b0, float)
+    for j in range(len(angles) - 1):
+        th = np.linspace(angles[j], angles[j + 1], 721)
+        B = a0 + a * np.c_[np.cos(th), np.sin(th)]
+        r = np.linalg.norm(B - b0, axis=1)
+        bad = (r >= b + c) | (r <= abs(b - c))
+        if bad.any():
+            return j + 1, float(math.degrees(th[int(np.argmax(bad))]))
+    return None

@@ -1,0 +1,187 @@
+"""One entry point for dimensional synthesis: a task in, every solution out, checked and ranked.
+
+:func:`synthesize` follows ``scipy.optimize``: one function for every kind
+of task, a result object (:class:`Synthesis`) with ``status``, ``success``,
+``message``, the solutions and the numbers that show their quality (the
+residual at every precision position, the checks, the structural error).
+
+Solutions are ranked by a documented score: usable ones (no defect) first,
+then by the smallest transmission angle at the precision positions, larger
+first; function generators by their largest structural error, smaller first.
+Rejected solutions stay in the result with their reasons.
+
+>>> from domes.design.synthesis.task import task_from_dict
+>>> task = task_from_dict({"kind": "function", "rotations_deg": [[-30, 15], [-60, 45]], "rocker_pin": [0.375, 0.1875]})
+>>> result = synthesize(task)                                     # seed 002 §2-3, Example 4
+>>> [round(x, 6) for x in result.solutions[0].fourbar.a1]
+[0.346046, 0.52925]
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from domes.design.synthesis import function as fn
+from domes.design.synthesis import guidance as gd
+from domes.design.synthesis.displacement import moved, rotation_about
+from domes.design.synthesis.fourbars import Checks, FourBar, check
+from domes.design.synthesis.task import GuidanceTask, RotationTask
+from domes.errors import InputError
+from domes.results import Listing, Status
+
+
+@dataclass(frozen=True)
+class Solution:
+    """A synthesised four-bar, its checks, and its residual at every precision position (in length units)."""
+
+    fourbar: FourBar
+    checks: Checks
+    residuals: tuple[float, ...]
+    notes: tuple[str, ...] = ()
+    structural: fn.StructuralError | None = None
+    respaced: fn.Respacing | None = None
+
+    @property
+    def residual(self) -> float:
+        return max(self.residuals) if self.residuals else 0.0
+
+    @property
+    def usable(self) -> bool:
+        return self.checks.usable and not (self.structural is not None and self.structural.defects)
+
+    @property
+    def defects(self) -> tuple[str, ...]:
+        return self.checks.defects + (self.structural.defects if self.structural is not None else ())
+
+
+@dataclass(frozen=True, eq=False)
+class Synthesis(Listing):
+    """Every solution of a task, ranked; ``roots`` is the count of real roots found before the checks."""
+
+    task_name: str
+    kind: str
+    solutions: tuple[Solution, ...]
+    roots: int
+    seconds: float
+    notes: tuple[str, ...] = field(default_factory=tuple)
+    items_field = "solutions"
+
+    @property
+    def usable(self) -> tuple[Solution, ...]:
+        return tuple(s for s in self.solutions if s.usable)
+
+    @property
+    def status(self) -> Status:
+        return Status.COMPLETE if self.usable else Status.EMPTY
+
+    @property
+    def message(self) -> str:
+        return (f"{self.status}: {self.task_name}: {self.roots} real root(s), {len(self.solutions)} linkage(s), "
+                f"{len(self.usable)} usable; {self.seconds * 1e3:.1f} ms")
+
+
+def synthesize(task) -> Synthesis:
+    """Dimension a four-bar for ``task`` (a guidance, function or rotations task): every real solution, checked."""
+    started = time.perf_counter()
+    if isinstance(task, GuidanceTask):
+        roots, sols, notes = _guidance(task)
+        kind = "guidance"
+    elif isinstance(task, RotationTask):
+        roots, sols, notes = _rotations(task)
+        kind = "function"
+    elif isinstance(task, fn.FunctionTask):
+        roots, sols, notes = _function(task)
+        kind = "function"
+    else:
+        raise InputError(f"not a synthesis task: {type(task).__name__}")
+    ranked = sorted(sols, key=_score)
+    return Synthesis(task.name, kind, tuple(ranked), roots, time.perf_counter() - started, tuple(notes))
+
+
+def _score(s: Solution):
+    error = s.structural.largest if s.structural is not None else 0.0
+    return (not s.usable, error, -s.checks.min_transmission_deg)
+
+
+# -- guidance --------------------------------------------------------------------------------
+
+def _guidance(task: GuidanceTask):
+    positions = list(task.positions)
+    n = len(positions)
+    if n == 3:
+        dyads = [gd.dyad(positions, a1) for a1 in task.circle_points]
+        dyads += [gd.dyad(positions, gd.circle_point(positions, a0)) for a0 in task.centre_points]
+        groups = [[d] for d in dyads]
+    elif n == 4:
+        groups = [gd.circle_point_curve(positions, [x]) for x in task.circle_x]
+    else:
+        found = gd.burmester_points(positions)
+        groups = [[d] for d in found]
+    notes = []
+    if n == 5:
+        notes.append(f"{len(groups)} real Burmester point(s)")
+    roots = sum(len(g) for g in groups)
+    sols = []
+    Ds = gd.displacements(positions)
+    if n == 5:
+        pairs = [(groups[i][0], groups[j][0]) for i in range(len(groups)) for j in range(i + 1, len(groups))]
+    else:
+        pairs = [(p, q) for p in groups[0] for q in groups[1]] if len(groups) == 2 else []
+    for a, b in pairs:
+        fb = FourBar(a.a0, a.a1, b.a1, b.a0, positions[0].point)
+        A = [moved(D, a.a1) for D in Ds]
+        B = [moved(D, b.a1) for D in Ds]
+        res = tuple(max(abs(np.linalg.norm(A[j] - a.a0) - a.radius), abs(np.linalg.norm(B[j] - b.a0) - b.radius))
+                    for j in range(n))
+        sols.append(Solution(fb, check(fb, A, B), res))
+    return roots, sols, notes
+
+
+# -- function generation ----------------------------------------------------------------------
+
+def _rotations(task: RotationTask):
+    """Example 4: the crank pin by inversion (2-109), checked against Freudenstein's equation."""
+    th = [r[0] for r in task.rotations]
+    ph = [r[1] for r in task.rotations]
+    b0 = (1.0, 0.0)
+    a1 = fn.inversion_three(th, ph, task.rocker_pin, b0)
+    theta1 = math.atan2(a1[1], a1[0])
+    phi1 = math.atan2(task.rocker_pin[1] - b0[1], task.rocker_pin[0] - b0[0])
+    gen = fn.freudenstein([theta1, theta1 + th[0], theta1 + th[1]], [phi1, phi1 + ph[0], phi1 + ph[1]])
+    fb = FourBar((0.0, 0.0), tuple(a1), task.rocker_pin, b0)
+    agree = max(abs(x - y) for x, y in zip(fb.lengths, (gen.crank, gen.coupler, gen.rocker, gen.frame)))
+    A = [a1] + [moved(rotation_about((0, 0), t), a1) for t in th]
+    B = [np.asarray(task.rocker_pin)] + [moved(rotation_about(b0, p), task.rocker_pin) for p in ph]
+    b = fb.lengths[1]
+    res = tuple(abs(float(np.linalg.norm(np.subtract(B[j], A[j]))) - b) for j in range(3))
+    note = f"inversion (2-109) and Freudenstein's equation agree on the lengths to {agree:.1e}"
+    return 1, [Solution(fb, check(fb, A, B), res, (note,))], []
+
+
+def _function(task: fn.FunctionTask):
+    gens = fn.solve(task)
+    xs = np.sort(np.asarray(task.points, dtype=float))
+    sols = []
+    for g in gens:
+        dth, dph = task.angles(xs)
+        th, ph = g.theta0 + dth, g.phi0 + dph
+        fb = generator_fourbar(g, th[0], ph[0])
+        A = [(g.crank * math.cos(t), g.crank * math.sin(t)) for t in th]
+        B = [(g.frame + g.rocker * math.cos(p), g.rocker * math.sin(p)) for p in ph]
+        res = tuple(abs(math.dist(A[j], B[j]) - g.coupler) for j in range(xs.size))
+        err = fn.structural_error(task, g, xs)
+        respaced = fn.respace(task, g) if not err.defects and task.respace else None
+        notes = (f"largest structural error {math.degrees(err.largest):.4g}° of rocker rotation "
+                 f"({abs(err.largest / task.k_phi):.3g} in y)",) if np.isfinite(err.largest) else ()
+        sols.append(Solution(fb, check(fb, A, B), res, notes, err, respaced))
+    return len(gens), sols, []
+
+
+def generator_fourbar(g: fn.FunctionGenerator, theta: float, phi: float) -> FourBar:
+    """The generator's linkage drawn at crank angle ``theta`` and rocker angle ``phi`` (frame (0, 0)-(d, 0))."""
+    return FourBar((0.0, 0.0), (g.crank * math.cos(theta), g.crank * math.sin(theta)),
+                   (g.frame + g.rocker * math.cos(phi), g.rocker * math.sin(phi)), (g.frame, 0.0))

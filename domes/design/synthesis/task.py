@@ -1,0 +1,170 @@
+"""A synthesis task as data: what the mechanism must do, and the free choices the designer fixes.
+
+Tasks come as dictionaries (the JSON of ``examples/synthesis/``, read by
+:mod:`domes.io.tasks`); :func:`task_from_dict` checks every entry and says
+which one is wrong. Kinds:
+
+- ``guidance``: precision positions of a body (``positions``: point and
+  ``angle_deg``), 3 to 5; with 3 positions the free choices are the two
+  ``circle_points`` (moving pivots in position 1) or ``centre_points``
+  (fixed pivots); with 4 the abscissas ``circle_x`` of the circle points
+  (each gives up to three cranks); with 5 none (Burmester points).
+- ``function``: ``y = f(x)`` (``function``, an expression in ``x``) over
+  ``range``, the crank's and the rocker's rotations ``input_deg`` and
+  ``output_deg``, ``points`` (a count: Chebyshev spacing; or the list), the
+  start angles ``start_deg`` ``[θ0, φ0]`` where the count needs them
+  (``null`` where solved), the ``frame`` length and ``respace`` (equalise
+  the structural error's extrema); or, as in Example 4, ``rotations_deg``
+  ``[[θ12, φ12], [θ13, φ13]]`` with the rocker pin ``rocker_pin`` (frame
+  from (0, 0) to (1, 0)).
+
+>>> t = task_from_dict({"kind": "function", "function": "log10(x)", "range": [1, 10], "input_deg": 60,
+...                     "output_deg": -90, "points": 4, "start_deg": [20, None]})
+>>> [round(x, 4) for x in t.points]
+[1.3425, 3.7779, 7.2221, 9.6575]
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from domes.design.synthesis.function import FunctionTask, chebyshev, check_function
+from domes.design.synthesis.guidance import Position, check_positions
+from domes.errors import InputError
+
+#: Names an expression of ``x`` may use.
+FUNCTIONS = {"sin": np.sin, "cos": np.cos, "tan": np.tan, "exp": np.exp, "log": np.log, "log10": np.log10,
+             "sqrt": np.sqrt, "abs": np.abs, "arctan": np.arctan, "sinh": np.sinh, "cosh": np.cosh, "tanh": np.tanh}
+CONSTANTS = {"pi": math.pi, "e": math.e}
+_NODES = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Constant, ast.Load, ast.Add, ast.Sub,
+          ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)
+
+
+def expression(text: str, where: str = "function"):
+    """A vectorised function of ``x`` from an expression such as ``log10(x)`` or ``x**2 + 1`` (no other names)."""
+    try:
+        tree = ast.parse(str(text), mode="eval")
+    except SyntaxError as exc:
+        raise InputError(f"{where}: {text!r} is not an expression of x ({exc.msg})") from None
+    for node in ast.walk(tree):
+        if not isinstance(node, _NODES):
+            raise InputError(f"{where}: {text!r}: {type(node).__name__} is not allowed in a function of x")
+        if isinstance(node, ast.Name) and node.id != "x" and node.id not in FUNCTIONS and node.id not in CONSTANTS:
+            raise InputError(f"{where}: {text!r}: unknown name {node.id!r} (use x, {', '.join(sorted(FUNCTIONS))}, "
+                             "pi, e)")
+        if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in FUNCTIONS):
+            raise InputError(f"{where}: {text!r}: only the functions {', '.join(sorted(FUNCTIONS))} may be called")
+        if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
+            raise InputError(f"{where}: {text!r}: only numbers may appear as constants")
+    code = compile(tree, where, "eval")
+    names = {"__builtins__": {}, **FUNCTIONS, **CONSTANTS}
+
+    def f(x):
+        with np.errstate(all="ignore"):
+            return eval(code, names, {"x": np.asarray(x, dtype=float)})  # noqa: S307 - AST checked above
+
+    f.text = str(text)
+    return f
+
+
+@dataclass(frozen=True)
+class GuidanceTask:
+    """Precision positions of a body and the free choices of the crank dyads."""
+
+    positions: tuple[Position, ...]
+    circle_points: tuple[tuple[float, float], ...] = ()
+    centre_points: tuple[tuple[float, float], ...] = ()
+    circle_x: tuple[float, ...] = ()
+    name: str = "guidance"
+
+
+@dataclass(frozen=True)
+class RotationTask:
+    """Example 4's form: crank and rocker rotations from position 1, the rocker pin, frame (0, 0)-(1, 0)."""
+
+    rotations: tuple[tuple[float, float], ...]
+    rocker_pin: tuple[float, float]
+    name: str = "rotations"
+
+
+def _number(data, key, where, default=None):
+    value = data.get(key, default)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{where}: {key!r} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _pair(value, where):
+    if (not isinstance(value, (list, tuple)) or len(value) != 2
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)):
+        raise InputError(f"{where}: expected two finite numbers [x, y], got {value!r}")
+    return (float(value[0]), float(value[1]))
+
+
+def task_from_dict(data: dict, where: str = "task"):
+    """The task of a dictionary (a parsed task file); an InputError naming the entry that is wrong."""
+    if not isinstance(data, dict):
+        raise InputError(f"{where}: a task is a JSON object with a 'kind', got {type(data).__name__}")
+    kind = data.get("kind")
+    name = str(data.get("name", where))
+    if kind == "guidance":
+        raw = data.get("positions")
+        if not isinstance(raw, list):
+            raise InputError(f"{where}: 'positions' must be a list of {{'point': [x, y], 'angle_deg': a}}")
+        positions = []
+        for j, p in enumerate(raw, 1):
+            if not isinstance(p, dict):
+                raise InputError(f"{where}: position {j} must be an object with 'point' and 'angle_deg'")
+            positions.append(Position(_pair(p.get("point"), f"{where}: position {j} point"),
+                                      math.radians(_number(p, "angle_deg", f"{where}: position {j}"))))
+        check_positions(positions)
+        t = GuidanceTask(tuple(positions), tuple(_pair(v, f"{where}: circle_points") for v in data.get("circle_points", [])),
+                         tuple(_pair(v, f"{where}: centre_points") for v in data.get("centre_points", [])),
+                         tuple(_number({"x": v}, "x", f"{where}: circle_x") for v in data.get("circle_x", [])), name)
+        n = len(positions)
+        if n == 3 and len(t.circle_points) + len(t.centre_points) != 2:
+            raise InputError(f"{where}: three positions leave each crank one free pivot: give two 'circle_points' "
+                             "or two 'centre_points' (or one of each)")
+        if n == 4 and len(t.circle_x) != 2:
+            raise InputError(f"{where}: four positions leave each crank one free coordinate: give 'circle_x', the "
+                             "abscissas of the two circle points")
+        if n == 5 and (t.circle_points or t.centre_points or t.circle_x):
+            raise InputError(f"{where}: five positions leave no free choice: remove circle_points, centre_points "
+                             "and circle_x")
+        if n == 2:
+            raise InputError(f"{where}: two positions leave a crank two free choices: give a third position, or "
+                             "design with three")
+        return t
+    if kind == "function" and "rotations_deg" in data:
+        rot = data["rotations_deg"]
+        if not isinstance(rot, list) or len(rot) != 2:
+            raise InputError(f"{where}: 'rotations_deg' must be two pairs [[θ12, φ12], [θ13, φ13]]")
+        pairs = tuple(tuple(math.radians(v) for v in _pair(r, f"{where}: rotations_deg")) for r in rot)
+        return RotationTask(pairs, _pair(data.get("rocker_pin"), f"{where}: rocker_pin"), name)
+    if kind == "function":
+        f = expression(data.get("function", ""), f"{where}: function")
+        lo, hi = _pair(data.get("range"), f"{where}: range")
+        count = data.get("points", 3)
+        if isinstance(count, int) and not isinstance(count, bool):
+            if not 3 <= count <= 5:
+                raise InputError(f"{where}: 'points': a four-bar function generator meets 3 to 5 precision points, "
+                                 f"got {count}")
+            points = tuple(float(x) for x in lo + (hi - lo) * chebyshev(count))
+        elif isinstance(count, list):
+            points = tuple(_number({"x": v}, "x", f"{where}: points") for v in count)
+        else:
+            raise InputError(f"{where}: 'points' must be a count (Chebyshev spacing) or a list of x values")
+        start = data.get("start_deg", [None, None])
+        if not isinstance(start, list) or len(start) != 2:
+            raise InputError(f"{where}: 'start_deg' must be [θ0, φ0], null where the synthesis solves for it")
+        start = tuple(None if v is None else math.radians(_number({"a": v}, "a", f"{where}: start_deg")) for v in start)
+        t = FunctionTask(f, lo, hi, math.radians(_number(data, "input_deg", where)),
+                         math.radians(_number(data, "output_deg", where)), points, start,
+                         _number(data, "frame", where, 1.0), name, bool(data.get("respace", False)))
+        check_function(t)
+        return t
+    raise InputError(f"{where}: 'kind' must be 'guidance' or 'function', got {kind!r}")

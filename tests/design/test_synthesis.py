@@ -1,0 +1,220 @@
+"""Dimensional synthesis of four-bars (issue 13): seed 002 §2-3, digest A.3 and the test values of Part E.2."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from domes.cli import main
+from domes.design.synthesis import function as fn
+from domes.design.synthesis import guidance as gd
+from domes.design.synthesis import synthesize, task_from_dict
+from domes.design.synthesis.displacement import displacement, moved
+from domes.errors import InputError
+from domes.model.mechanism import Mechanism
+from domes.motion.planar.sweep import solve
+
+EXAMPLE_2 = [gd.Position((1.0, 1.0), 0.0), gd.Position((2.0, 0.5), 0.0), gd.Position((3.0, 1.5), math.radians(45)),
+             gd.Position((2.0, 2.0), math.radians(90))]
+
+
+def test_displacement_matrix_k01():
+    # digest E.1 K-01 (seed 002 (2-24)): θ = 60°, p1 = (1, 1), p = (3, 2); q1 = (3, 1) goes to (4, 3.7320508)
+    D = displacement((1, 1), (3, 2), math.radians(60))
+    assert np.allclose(D[:2, 2], (3.3660254, 0.6339746), atol=1e-7)
+    assert np.allclose(moved(D, (3, 1)), (4.0, 3.7320508), atol=1e-7)
+
+
+@pytest.mark.parametrize("n, expected", [(3, (0.06699, 0.5, 0.93301)), (4, (0.03806, 0.30866, 0.69134, 0.96194)),
+                                         (5, (0.02447, 0.20611, 0.5, 0.79389, 0.97553))])
+def test_chebyshev_spacing_s01_s02(n, expected):
+    # digest S-01, S-02: (2-97); the book's n = 4 value 0.692 is a rounding slip for 0.691
+    assert np.allclose(fn.chebyshev(n), expected, atol=5e-5)
+
+
+def test_scaling_s03():
+    t = fn.FunctionTask(np.log10, 1.0, 10.0, math.radians(60), math.radians(-90), (2.0, 5.0, 8.0), (0.1, 0.2))
+    x = np.array([1.0, 2.0, 5.0, 10.0])
+    dth, dph = t.angles(x)
+    assert np.allclose(dth, t.k_theta * (x - 1.0), atol=1e-12)
+    assert np.allclose(dph, t.k_phi * (np.log10(x) - 0.0), atol=1e-12)
+    assert math.isclose(dph[-1], math.radians(-90), abs_tol=1e-12)
+
+
+def test_example_4_by_inversion_and_by_freudenstein_s04_s05():
+    # seed 002 §2-3 Example 4; digest S-04 (a1 to 2e-6) and S-05 (K and the constant coupler to 1e-6)
+    result = synthesize(task_from_dict({"kind": "function", "rotations_deg": [[-30, 15], [-60, 45]],
+                                        "rocker_pin": [0.375, 0.1875]}))
+    s = result.solutions[0]
+    assert np.allclose(s.fourbar.a1, (0.346046, 0.529250), atol=2e-6)
+    assert max(s.residuals) < 1e-12 and abs(s.fourbar.lengths[1] - 0.342974) < 1e-6
+    theta1 = math.atan2(s.fourbar.a1[1], s.fourbar.a1[0])
+    phi1 = math.atan2(0.1875, 0.375 - 1.0)
+    assert math.degrees(theta1) == pytest.approx(56.8216, abs=1e-4)
+    assert math.degrees(phi1) == pytest.approx(163.3008, abs=1e-4)
+    g = fn.freudenstein([theta1, theta1 - math.radians(30), theta1 - math.radians(60)],
+                        [phi1, phi1 + math.radians(15), phi1 + math.radians(45)])
+    assert np.allclose(g.K, (1.581429, 1.532522, 2.069736), atol=1e-6)
+    assert np.allclose((g.crank, g.coupler, g.rocker), s.fourbar.lengths[:3], atol=1e-12)    # both routes agree
+
+
+def test_four_positions_circle_point_curve_s08_s09():
+    # digest S-08: circle points on x = 0 and their centre points; every crank keeps its length at all 4 positions
+    ys = sorted(gd.circle_points_at(EXAMPLE_2, 0.0))
+    assert np.allclose(ys, (-1.915055, 1.488794, 2.736921), atol=1e-6)
+    d = gd.dyad(EXAMPLE_2, (0.0, ys[2]))
+    assert np.allclose(d.a0, (0.195623, 1.878167), atol=1e-6) and d.radius == pytest.approx(0.880754, abs=1e-6)
+    for dy in gd.circle_point_curve(EXAMPLE_2, np.linspace(-3, 4, 15)):
+        assert dy.residual <= 1e-9 * max(1.0, dy.radius)
+    # S-09: the pole P14 = (1, 2) lies on the curve exactly (a degenerate crank: positions 1 and 4 coincide)
+    Ds = gd.displacements(EXAMPLE_2)
+    assert abs(gd._concyclic(Ds, range(4), (1.0, 2.0))) < 1e-12
+    assert 2.0 in [round(y, 9) for y in gd.circle_points_at(EXAMPLE_2, 1.0)]
+    assert all(math.dist(dy.a1, (1.0, 2.0)) > 1e-6 for dy in gd.circle_point_curve(EXAMPLE_2, [1.0]))
+
+
+def test_three_positions_closed_form_both_ways():
+    a0 = gd.centre_point(EXAMPLE_2[:3], (0.0, -1.915055))
+    back = gd.circle_point(EXAMPLE_2[:3], a0)
+    assert np.allclose(back, (0.0, -1.915055), atol=1e-9)
+
+
+def _coupler_positions(a, b, c, d, u, v, thetas):
+    """Positions (point, angle) of a four-bar's coupler, A = (0, 0), D = (d, 0), open assembly."""
+    out = []
+    for th in thetas:
+        B = np.array([a * math.cos(th), a * math.sin(th)])
+        D = np.array([d, 0.0])
+        r = np.linalg.norm(D - B)
+        along = (b * b + r * r - c * c) / (2 * r)
+        across = math.sqrt(b * b - along * along)
+        e = (D - B) / r
+        C = B + along * e + across * np.array([-e[1], e[0]])
+        ang = math.atan2(*(C - B)[::-1])
+        P = B + u * (C - B) / b + v * np.array([-(C - B)[1], (C - B)[0]]) / b
+        out.append((gd.Position(tuple(P), ang), B, C))
+    return out
+
+
+def test_burmester_points_contain_the_cranks_of_a_four_bar_that_makes_the_positions():
+    # Five positions of a known four-bar's coupler: its two cranks (A, B) and (D, C) are Burmester pairs.
+    rng = np.random.default_rng(13)
+    hits = 0
+    for _ in range(20):
+        a, b, c, d = 1.0, rng.uniform(2.5, 3.5), rng.uniform(2.0, 3.0), rng.uniform(2.0, 3.0)
+        pos = _coupler_positions(a, b, c, d, rng.uniform(0, 1), rng.uniform(0.5, 1.5),
+                                 np.sort(rng.uniform(0, 2 * math.pi, 5)))
+        found = gd.burmester_points([p for p, _, _ in pos])
+        for known in (pos[0][1], pos[0][2]):
+            hits += any(math.dist(f.a1, known) < 1e-6 for f in found)
+        for f in found:
+            assert f.residual <= 1e-9 * max(1.0, f.radius)
+    assert hits == 40
+
+
+def _mechanism_output(a, b, c, d, theta):
+    px, py = a * math.cos(theta) - d, a * math.sin(theta)
+    A, B, C = -2 * c * px, -2 * c * py, px * px + py * py + c * c - b * b
+    return math.atan2(B, A) + math.acos(-C / math.hypot(A, B))
+
+
+@pytest.mark.parametrize("n", [4, 5])
+def test_function_generation_recovers_the_generating_four_bar(n):
+    # Round trip: a function made by a known Grashof crank-rocker is synthesised again at n precision points;
+    # every solution meets them to 1e-9, and the original linkage is among the solutions.
+    rng = np.random.default_rng(n)
+    recovered = 0
+    for _ in range(15):
+        a, b, c, d = 1.0, rng.uniform(3.0, 4.0), rng.uniform(2.5, 3.5), rng.uniform(2.5, 3.5)
+        th0 = rng.uniform(0, 2 * math.pi)
+        f = np.vectorize(lambda x, a=a, b=b, c=c, d=d, th0=th0: _mechanism_output(a, b, c, d, th0 + x))
+        span = rng.uniform(0.8, 1.5)
+        y0, y1 = float(f(0.0)), float(f(span))
+        task = fn.FunctionTask(f, 0.0, span, span, y1 - y0, tuple(span * fn.chebyshev(n)),
+                               (th0, None) if n == 4 else (None, None), d)
+        sols = fn.solve(task)
+        xs = np.array(task.points)
+        for s in sols:
+            dth, dph = task.angles(xs)
+            th, ph = s.theta0 + dth, s.phi0 + dph
+            closure = np.hypot(s.crank * np.cos(th) - s.frame - s.rocker * np.cos(ph),
+                               s.crank * np.sin(th) - s.rocker * np.sin(ph)) - s.coupler
+            assert np.max(np.abs(closure)) < 1e-9
+        recovered += any(np.allclose((s.crank, s.coupler, s.rocker), (a, b, c), atol=1e-7) for s in sols)
+    assert recovered == 15
+
+
+def test_four_point_roots_match_an_independent_scan():
+    # n = 4: the closed-form roots in φ0 are as many as the sign changes of the 4 × 4 determinant on a fine grid
+    rng = np.random.default_rng(4)
+    for _ in range(10):
+        th0 = rng.uniform(0, 2 * math.pi)
+        task = fn.FunctionTask(np.log10, 1.0, 10.0, math.radians(60), math.radians(rng.choice([-90, 90])),
+                               tuple(1 + 9 * fn.chebyshev(4)), (th0, None))
+        dth, dph = task.angles(np.array(task.points))
+        grid = np.linspace(-math.pi, math.pi, 20001)
+        dets = [np.linalg.det(fn._rows(th0 + dth, p + dph)) for p in grid]
+        changes = int(np.sum(np.diff(np.sign(dets)) != 0))
+        a, b, g = fn._quad_coefficients(lambda c, s: np.linalg.det(
+            np.c_[c * np.cos(dph) - s * np.sin(dph), -np.cos(th0 + dth), np.ones(4),
+                  -(np.cos(th0 + dth - dph) * c + np.sin(th0 + dth - dph) * s)]))
+        assert len(fn._unit_roots(a, b, g, max(abs(a), abs(b), abs(g)))) == changes
+
+
+@pytest.mark.parametrize("n, start", [(3, (25, 105)), (4, (20, None)), (5, (None, None))])
+def test_log10_generator_and_equal_extrema_after_respacing(n, start):
+    # Issue 13 acceptance: y = log10(x) on [1, 10], 60° input, 90° output rotation (turning the other way; with
+    # both turning the same way the five-point generator does not assemble near x = 1), at 3, 4 and 5 points.
+    task = task_from_dict({"kind": "function", "function": "log10(x)", "range": [1, 10], "input_deg": 60,
+                           "output_deg": -90, "points": n, "start_deg": list(start), "respace": True})
+    result = synthesize(task)
+    best = result.usable[0]
+    assert 0 < best.structural.largest < math.radians(2)
+    r = best.respaced
+    assert r.after.spread <= 0.05 and r.after.largest < best.structural.largest
+    assert all(abs(e) > 0 for e in r.after.extrema) and len(r.after.extrema) == n + 1
+    signs = np.sign(r.after.extrema)
+    assert np.all(signs[1:] == -signs[:-1])                   # the extrema alternate, as between zeros they must
+
+
+def test_guidance_solutions_are_mechanisms_the_backend_moves_through_the_positions(tmp_path, capsys):
+    # Every usable solution, read back as a mechanism file, is driven by the kinematics backend from its drawn pose
+    # through the crank angle of each position in turn: the coupler point reaches every precision point.
+    positions = EXAMPLE_2 + [gd.Position((1.5, 1.9), math.radians(120))]
+    checked = 0
+    for data in ({"circle_x": [-1, 0]}, {"circle_x": [-1, 3]}, {}):
+        pos = positions if not data else EXAMPLE_2
+        path = tmp_path / "t.json"
+        path.write_text(json.dumps({"kind": "guidance", "positions": [
+            {"point": list(p.point), "angle_deg": math.degrees(p.angle)} for p in pos], **data}))
+        main(["synthesize", str(path), "--format", "json"])
+        for sol in json.loads(capsys.readouterr().out)["solutions"]:
+            assert max(sol["residuals"]) < 1e-9
+            if not sol["usable"]:
+                assert sol["defects"]
+                continue
+            mech = Mechanism.from_dict(sol["mechanism"])
+            for angle, p in zip(sol["crank_angles_deg"], pos):
+                step = solve(mech, math.radians(angle))
+                assert math.dist((step.values["point:P.x"], step.values["point:P.y"]), p.point) < 1e-9
+            checked += 1
+    assert checked >= 1
+
+
+@pytest.mark.parametrize("data, message", [
+    ({"kind": "guidance", "positions": [{"point": [0, 0], "angle_deg": 0}] * 3, "circle_points": [[0, 1], [1, 1]]},
+     "coincide"),
+    ({"kind": "guidance", "positions": [{"point": [i, 0], "angle_deg": i} for i in range(6)]}, "2 to 5 positions"),
+    ({"kind": "function", "function": "log10(x)", "range": [-1, 10], "input_deg": 60, "output_deg": 90,
+      "start_deg": [10, 20]}, "not defined at x = -1"),
+    ({"kind": "function", "function": "log10(y)", "range": [1, 10], "input_deg": 60, "output_deg": 90}, "unknown name"),
+    ({"kind": "function", "function": "x", "range": [1, 10], "input_deg": 60, "output_deg": 90, "points": 6},
+     "3 to 5 precision points"),
+    ({"kind": "function", "function": "x", "range": [1, 10], "input_deg": 60, "output_deg": 90, "points": 4,
+      "start_deg": [10, 20]}, "input start angle θ0 only"),
+    ({"kind": "path"}, "'kind' must be"),
+])
+def test_bad_tasks_say_which_entry(data, message):
+    with pytest.raises(InputError, match=message):
+        task_from_dict(data)
