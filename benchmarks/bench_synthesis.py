@@ -1,10 +1,12 @@
 """Dimensional synthesis: time per task and real roots found (issue 13, item 7).
 
 Run ``python benchmarks/bench_synthesis.py``. For the book's examples
-(seed 002 §2-3: Example 4, Example 2 with circle points on two lines), the
-log10 function generator at 3, 4 and 5 points (with and without re-spacing)
-and random tasks (five coupler positions of a random four-bar: Burmester
-points; five precision points of a random four-bar's input-output function),
+(seed 002 §2-3: Example 4, Example 2 with circle points on two lines,
+Example 5), the log10 function generator at 3, 4 and 5 points (with and
+without re-spacing) and random tasks (five coupler positions of a random
+four-bar: Burmester points; five precision points of a random four-bar's
+input-output function; five path points of a random four-bar with its fixed
+pivots given),
 it prints the median time, the real roots and the usable linkages found, and
 for the random tasks how often the generating linkage is among them.
 """
@@ -25,6 +27,7 @@ sys.path.insert(0, str(ROOT))
 
 from domes.design.synthesis import function as fn  # noqa: E402
 from domes.design.synthesis import guidance as gd  # noqa: E402
+from domes.design.synthesis import path as pt  # noqa: E402
 from domes.design.synthesis import synthesize, task_from_dict  # noqa: E402
 from domes.io.tasks import load_task  # noqa: E402
 
@@ -40,7 +43,8 @@ def timed(task, repeats=5):
 
 def book_rows():
     tasks = [("Example 4 (3 positions, inversion + Freudenstein)", load_task(ROOT / "examples/synthesis/ch2-example-4.json")),
-             ("Example 2 (4 positions, circle points on x = -1, 0)", load_task(ROOT / "examples/synthesis/ch2-example-2.json"))]
+             ("Example 2 (4 positions, circle points on x = -1, 0)", load_task(ROOT / "examples/synthesis/ch2-example-2.json")),
+             ("Example 5 (5 path points, a0 and b0 given)", load_task(ROOT / "examples/synthesis/ch2-example-5.json"))]
     for n, start in ((3, [25, 105]), (4, [20, None]), (5, [None, None])):
         for respace in (False, True):
             tasks.append((f"log10, {n} points{', re-spaced' if respace else ''}",
@@ -110,6 +114,18 @@ def random_rows(count):
         roots.append(len(sols))
         hits += any(np.allclose((s.crank, s.coupler, s.rocker), (a, b, c), atol=1e-7) for s in sols)
     yield ("random: 5-point function generators", statistics.median(times), statistics.median(roots),
+           f"{hits}/{count} generating linkages found")
+    times, roots, hits = [], [], 0
+    for _ in range(count):
+        pos, (B, C) = _coupler_positions(rng)
+        pts = [p.point for p in pos]
+        a0, b0 = (0.0, 0.0), tuple(gd.centre_point(pos, C))      # the generating four-bar's pivots A and D
+        t = time.perf_counter()
+        sols = pt.five_points(pts, a0, b0)
+        times.append(time.perf_counter() - t)
+        roots.append(len(sols))
+        hits += any(math.dist(s.a1, B) < 1e-8 and math.dist(s.b1, C) < 1e-8 for s in sols)
+    yield ("random: 5 path points, a0 and b0 given", statistics.median(times), statistics.median(roots),
            f"{hits}/{count} generating linkages found")
 
 

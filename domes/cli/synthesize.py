@@ -1,4 +1,4 @@
-"""``domes synthesize``: dimension a four-bar for a task file (guidance or function generation).
+"""``domes synthesize``: dimension a four-bar for a task file (guidance, function or path generation).
 
 >>> from domes.cli import main
 >>> main(["synthesize", "examples/synthesis/ch2-example-4.json"])         # doctest: +ELLIPSIS
@@ -25,11 +25,12 @@ from domes.io.tasks import load_task
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "synthesize",
-        help="dimension a four-bar for a task file: rigid-body guidance or function generation, every solution",
+        help="dimension a four-bar for a task file: rigid-body guidance, function or path generation, every solution",
         description="Dimensional synthesis (seed 002 §2-3): every real four-bar that meets the task's precision "
         "positions (guidance: 3 positions in closed form, 4 on the circle-point curve, 5 at the Burmester "
         "points; function generation: 3, 4 or 5 precision points, with the structural error over the range and "
-        "optional re-spacing), each checked (branch and order defects, Grashof class, transmission angle) and "
+        "optional re-spacing; path generation: five points with both fixed pivots given), each checked (branch, "
+        "order and dead-point defects, Grashof class, transmission angle) and "
         "written as a mechanism file for domes kinematics and domes draw. See docs/synthesis.md.",
     )
     p.add_argument("task", metavar="TASK.json", help="the task file (examples in examples/synthesis/)")

@@ -1,7 +1,7 @@
 """Dimensional synthesis (seed 002 §2-3, digest A.3): from a task to every four-bar that does it, checked.
 
 :func:`synthesize` takes a task (:mod:`~domes.design.synthesis.task`:
-rigid-body guidance, function generation) and returns a
+rigid-body guidance, function generation, path generation) and returns a
 :class:`~domes.design.synthesis.solve.Synthesis` of every real solution,
 each a :class:`~domes.design.synthesis.fourbars.FourBar` with its checks,
 ready as a mechanism file for ``domes kinematics`` and ``domes draw``.

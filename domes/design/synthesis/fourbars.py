@@ -107,13 +107,18 @@ def check(fb: FourBar, positions_a, positions_b) -> Checks:
     modes = [np.sign(_cross(B[j] - A[j], b0 - B[j])) for j in range(len(A))]
     if len({m for m in modes if m != 0}) > 1:
         defects.append("branch defect: the precision positions lie on both assembly modes")
-    angles = np.unwrap([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
-    steps = np.diff(angles)
-    if steps.size and not (np.all(steps > 0) or np.all(steps < 0)):
-        defects.append("order defect: the crank does not reach the positions in order turning one way")
-    elif steps.size and abs(angles[-1] - angles[0]) >= 2 * math.pi:
-        defects.append("order defect: the crank turns more than once between the first and last positions")
-    elif steps.size:
+    raw = np.array([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
+    angles = None
+    for direction in (1.0, -1.0):           # the crank turning one way reaches the positions in order, within a turn
+        steps = np.mod(direction * np.diff(raw), 2 * math.pi)
+        if steps.sum() < 2 * math.pi:
+            path = raw[0] + direction * np.concatenate(([0.0], np.cumsum(steps)))
+            if angles is None or abs(path[-1] - path[0]) < abs(angles[-1] - angles[0]):
+                angles = path
+    if angles is None:
+        angles = raw
+        defects.append("order defect: the crank does not reach the positions in order within one turn either way")
+    else:
         stuck = _dead_between(fb, angles)
         if stuck is not None:
             defects.append(f"dead point: the crank cannot turn from position {stuck[0]} to {stuck[0] + 1} (the loop "

@@ -27,9 +27,10 @@ import numpy as np
 
 from domes.design.synthesis import function as fn
 from domes.design.synthesis import guidance as gd
+from domes.design.synthesis import path as pt
 from domes.design.synthesis.displacement import moved, rotation_about
 from domes.design.synthesis.fourbars import Checks, FourBar, check
-from domes.design.synthesis.task import GuidanceTask, RotationTask
+from domes.design.synthesis.task import GuidanceTask, PathTask, RotationTask
 from domes.errors import InputError
 from domes.results import Listing, Status
 
@@ -96,6 +97,9 @@ def synthesize(task) -> Synthesis:
     elif isinstance(task, fn.FunctionTask):
         roots, sols, notes = _function(task)
         kind = "function"
+    elif isinstance(task, PathTask):
+        roots, sols, notes = _path(task)
+        kind = "path"
     else:
         raise InputError(f"not a synthesis task: {type(task).__name__}")
     ranked = sorted(sols, key=_score)
@@ -185,3 +189,19 @@ def generator_fourbar(g: fn.FunctionGenerator, theta: float, phi: float) -> Four
     """The generator's linkage drawn at crank angle ``theta`` and rocker angle ``phi`` (frame (0, 0)-(d, 0))."""
     return FourBar((0.0, 0.0), (g.crank * math.cos(theta), g.crank * math.sin(theta)),
                    (g.frame + g.rocker * math.cos(phi), g.rocker * math.sin(phi)), (g.frame, 0.0))
+
+
+# -- path generation ----------------------------------------------------------------------------
+
+def _path(task: PathTask):
+    found = pt.five_points(task.points, task.a0, task.b0)
+    sols = []
+    for f in found:
+        fb = FourBar(task.a0, f.a1, f.b1, task.b0, task.points[0])
+        A, B = pt.coupler_positions(task.points, f)
+        a_r, b_r = math.dist(f.a1, task.a0), math.dist(f.b1, task.b0)
+        res = tuple(max(abs(math.dist(A[j], task.a0) - a_r), abs(math.dist(B[j], task.b0) - b_r))
+                    for j in range(len(A)))
+        sols.append(Solution(fb, check(fb, A, B), res, (
+            "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),)))
+    return len(found), sols, [f"{len(found)} real solution(s) on a {pt.GRID} × {pt.GRID} grid of (θ12, θ13)"]

@@ -17,6 +17,8 @@ which one is wrong. Kinds:
   the structural error's extrema); or, as in Example 4, ``rotations_deg``
   ``[[θ12, φ12], [θ13, φ13]]`` with the rocker pin ``rocker_pin`` (frame
   from (0, 0) to (1, 0)).
+- ``path``: five ``points`` of the coupler path and both fixed pivots
+  ``a0`` and ``b0`` (Table 2-1's free choices for five points).
 
 >>> t = task_from_dict({"kind": "function", "function": "log10(x)", "range": [1, 10], "input_deg": 60,
 ...                     "output_deg": -90, "points": 4, "start_deg": [20, None]})
@@ -34,6 +36,7 @@ import numpy as np
 
 from domes.design.synthesis.function import FunctionTask, chebyshev, check_function
 from domes.design.synthesis.guidance import Position, check_positions
+from domes.design.synthesis.path import check_path
 from domes.errors import InputError
 
 #: Names an expression of ``x`` may use.
@@ -80,6 +83,16 @@ class GuidanceTask:
     centre_points: tuple[tuple[float, float], ...] = ()
     circle_x: tuple[float, ...] = ()
     name: str = "guidance"
+
+
+@dataclass(frozen=True)
+class PathTask:
+    """Five points of a coupler path with both fixed pivots given (Table 2-1, Example 5)."""
+
+    points: tuple[tuple[float, float], ...]
+    a0: tuple[float, float]
+    b0: tuple[float, float]
+    name: str = "path"
 
 
 @dataclass(frozen=True)
@@ -167,4 +180,13 @@ def task_from_dict(data: dict, where: str = "task"):
                          _number(data, "frame", where, 1.0), name, bool(data.get("respace", False)))
         check_function(t)
         return t
-    raise InputError(f"{where}: 'kind' must be 'guidance' or 'function', got {kind!r}")
+    if kind == "path":
+        raw = data.get("points")
+        if not isinstance(raw, list) or len(raw) != 5:
+            raise InputError(f"{where}: 'points' must be five path points [x, y] (five points with both fixed pivots "
+                             f"given, Table 2-1); got {len(raw) if isinstance(raw, list) else raw!r}")
+        pts = tuple(_pair(p, f"{where}: point {j}") for j, p in enumerate(raw, 1))
+        t = PathTask(pts, _pair(data.get("a0"), f"{where}: a0"), _pair(data.get("b0"), f"{where}: b0"), name)
+        check_path(t.points, t.a0, t.b0)
+        return t
+    raise InputError(f"{where}: 'kind' must be 'guidance', 'function' or 'path', got {kind!r}")
