@@ -34,6 +34,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "written as a mechanism file for domes kinematics and domes draw. See docs/synthesis.md.",
     )
     p.add_argument("task", metavar="TASK.json", help="the task file (examples in examples/synthesis/)")
+    p.add_argument("--method", choices=("exact", "fast"), default="exact",
+                   help="exact: every real root (default); fast: Newton from random starts, may miss roots")
+    p.add_argument("--seeds", type=int, default=64, help="random starts of the fast method (default 64)")
     p.add_argument("--format", choices=("text", "json"), default="text")
     p.add_argument("--all", action="store_true", help="also list the rejected solutions (text)")
     p.add_argument("--output", "-o", help="write to this file (atomically) instead of standard output")
@@ -43,7 +46,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args) -> int:
     if args.output:
         check_target(args.output)
-    result = synthesize(load_task(args.task))
+    result = synthesize(load_task(args.task), args.method, args.seeds)
     text = _json(result) if args.format == "json" else _text(result, args.all)
     write_output(text, args.output)
     return 0 if result.success else 1

@@ -294,3 +294,17 @@ def test_path_generation_round_trip_of_200_four_bars():
         assert all(s.residual <= 1e-9 for s in sols)
         found += any(math.dist(s.a1, B) < 1e-8 and math.dist(s.b1, C) < 1e-8 for s in sols)
     assert found >= 198, found
+
+
+def test_the_fast_method_finds_a_subset_of_the_exact_roots():
+    # Issue 13 item 7: method="fast" (Newton from random starts) against "exact" on Example 5: every fast root is
+    # an exact root, and the exact method finds at least as many (here: all 20; fast with 64 starts fewer or equal).
+    task = task_from_dict({"kind": "path", "points": [list(p) for p in EXAMPLE_5], "a0": [2.1, 0.6], "b0": [1.5, 4.2]})
+    exact, fast = synthesize(task, "exact"), synthesize(task, "fast", seeds=64)
+    assert 0 < fast.roots <= exact.roots
+    for s in fast.solutions:
+        assert any(math.dist(s.fourbar.a1, e.fourbar.a1) < 1e-9 and math.dist(s.fourbar.b1, e.fourbar.b1) < 1e-9
+                   for e in exact.solutions)
+    assert "random starts" in fast.notes[0]
+    with pytest.raises(InputError, match="method must be"):
+        synthesize(task, "guess")

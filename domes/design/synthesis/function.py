@@ -216,8 +216,15 @@ def _unit_roots(alpha, beta, gamma, scale):
     return sorted({round(_wrap(x), 15) for psi in out for x in (psi, psi + math.pi)})
 
 
-def solve(task: FunctionTask) -> list[FunctionGenerator]:
-    """Every real four-bar through the task's 3, 4 or 5 precision points (closed form or resultant roots)."""
+def solve(task: FunctionTask, method: str = "exact", seeds: int = 64, seed: int = 0) -> list[FunctionGenerator]:
+    """Every real four-bar through the task's 3, 4 or 5 precision points (closed form or resultant roots).
+
+    With five points, ``method="fast"`` polishes ``seeds`` random start angles
+    instead of taking the resultant's roots (three and four points are
+    closed forms: the methods agree).
+    """
+    if method not in ("exact", "fast"):
+        raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
     check_function(task)
     xs = np.sort(np.asarray(task.points, dtype=float))
     dth, dph = task.angles(xs)
@@ -236,6 +243,10 @@ def solve(task: FunctionTask) -> list[FunctionGenerator]:
         a, b, g = _quad_coefficients(det)
         for ph in _unit_roots(a, b, g, max(abs(a), abs(b), abs(g), 1e-300)):
             sols.append(_solution(dth, dph, th0, ph, d))
+    elif method == "fast":
+        starts = [_polish(dth, dph, t, p) for t, p in
+                  np.random.default_rng(seed).uniform(-math.pi, math.pi, (seeds, 2))]
+        sols = [_solution(dth, dph, *st, d) for st in starts if st is not None]
     else:
         sols = [_solution(dth, dph, t, p, d) for t, p in _five_point_starts(dth, dph)]
     out = []

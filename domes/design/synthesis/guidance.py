@@ -186,7 +186,8 @@ def circle_point_curve(positions: list[Position], xs) -> list[Dyad]:
 TURNS = (0.0, 1.0, 2.1)
 
 
-def burmester_points(positions: list[Position], reach: float = 10.0) -> list[Dyad]:
+def burmester_points(positions: list[Position], reach: float = 10.0, method: str = "exact", seeds: int = 64,
+                     seed: int = 0) -> list[Dyad]:
     """Every real Burmester point pair of five positions within ``reach`` × their size of their centre.
 
     The circle points lie on the circle-point curves of positions 1234 and
@@ -199,12 +200,33 @@ def burmester_points(positions: list[Position], reach: float = 10.0) -> list[Dya
     by :data:`TURNS` and the answers merged. Poles (where two
     positions of the point coincide) are not guiding cranks and are left
     out; every pair returned has all five distances equal to 1e-9.
+    ``method="fast"`` polishes ``seeds`` random starts around the positions
+    instead: quicker, and it finds some of the points, not all.
     """
     check_positions(positions)
     if len(positions) != 5:
         raise InputError(f"Burmester points are of five positions, got {len(positions)}")
     s = size(positions)
     found: list[Dyad] = []
+    if method == "fast":
+        Ds = displacements(positions)
+        centre = np.mean([p.point for p in positions], axis=0)
+        for guess in centre + 2 * s * np.random.default_rng(seed).standard_normal((seeds, 2)):
+            sol = _polish_xy(Ds, (0, 1, 2, 3), (0, 1, 2, 4), guess, s)
+            if sol is None:
+                continue
+            images = [moved(D, sol) for D in Ds]
+            if min(math.dist(p, q) for i, p in enumerate(images) for q in images[:i]) <= 1e-6 * s:
+                continue
+            try:
+                d = dyad(positions, sol)
+            except InputError:
+                continue
+            if d.residual <= 1e-9 * max(s, d.radius) and not any(math.dist(d.a1, e.a1) <= 1e-7 * s for e in found):
+                found.append(d)
+        return found
+    if method != "exact":
+        raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
     for turn in TURNS:
         c, si = math.cos(turn), math.sin(turn)
         turned = [Position((c * p.point[0] - si * p.point[1], si * p.point[0] + c * p.point[1]), p.angle + turn)

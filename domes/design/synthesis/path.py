@@ -126,13 +126,29 @@ def check_path(points, a0, b0) -> None:
         raise InputError("a0 and b0 coincide: the frame has no length")
 
 
-def five_points(points, a0, b0, grid: int = GRID) -> list[PathSolution]:
+def five_points(points, a0, b0, grid: int = GRID, method: str = "exact", seeds: int = 64,
+                seed: int = 0) -> list[PathSolution]:
     """Every real four-bar through five path points with fixed pivots ``a0``, ``b0`` (all eight equations
-    met to 1e-9 of the points' size)."""
+    met to 1e-9 of the points' size).
+
+    ``method="fast"`` polishes ``seeds`` random starts instead of searching
+    the grids (the book's procedure, step 6): quicker, and it finds some of
+    the roots, not all.
+    """
     check_path(points, a0, b0)
     P = [tuple(map(float, p)) for p in points]
     a0, b0 = tuple(map(float, a0)), tuple(map(float, b0))
     size = float(np.ptp(np.asarray(P), axis=0).max())
+    if method == "fast":
+        found: list[PathSolution] = []
+        for guess in np.random.default_rng(seed).uniform(-math.pi, math.pi, (seeds, 2)):
+            sol = _polish(P, a0, b0, guess, size)
+            if sol is not None and not any(math.dist(sol.a1, f.a1) + math.dist(sol.b1, f.b1) <= 1e-7 * size
+                                           for f in found):
+                found.append(sol)
+        return found
+    if method != "exact":
+        raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
     t = np.linspace(-math.pi, math.pi, grid + 1)
     T2, T3 = np.meshgrid(t, t, indexing="ij")
     found: list[PathSolution] = []

@@ -85,20 +85,31 @@ class Synthesis(Listing):
                 f"{len(self.usable)} usable; {self.seconds * 1e3:.1f} ms")
 
 
-def synthesize(task) -> Synthesis:
-    """Dimension a four-bar for ``task`` (a guidance, function or rotations task): every real solution, checked."""
+def synthesize(task, method: str = "exact", seeds: int = 64) -> Synthesis:
+    """Dimension a four-bar for ``task`` (guidance, function, rotations or path): every real solution, checked.
+
+    ``method="exact"`` finds every real root (closed forms, resultants, the
+    path search); ``method="fast"`` polishes ``seeds`` random starts where
+    the exact route searches (five positions, five precision points, five
+    path points) and may miss roots; closed forms are the same either way.
+    """
+    if method not in ("exact", "fast"):
+        raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
+    if not (isinstance(seeds, int) and 1 <= seeds <= 100_000):
+        raise InputError(f"seeds must be a whole number from 1 to 100,000, got {seeds!r}")
     started = time.perf_counter()
+    knobs = {"method": method, "seeds": seeds}
     if isinstance(task, GuidanceTask):
-        roots, sols, notes = _guidance(task)
+        roots, sols, notes = _guidance(task, **knobs)
         kind = "guidance"
     elif isinstance(task, RotationTask):
         roots, sols, notes = _rotations(task)
         kind = "function"
     elif isinstance(task, fn.FunctionTask):
-        roots, sols, notes = _function(task)
+        roots, sols, notes = _function(task, **knobs)
         kind = "function"
     elif isinstance(task, PathTask):
-        roots, sols, notes = _path(task)
+        roots, sols, notes = _path(task, **knobs)
         kind = "path"
     else:
         raise InputError(f"not a synthesis task: {type(task).__name__}")
@@ -113,7 +124,7 @@ def _score(s: Solution):
 
 # -- guidance --------------------------------------------------------------------------------
 
-def _guidance(task: GuidanceTask):
+def _guidance(task: GuidanceTask, method: str = "exact", seeds: int = 64):
     positions = list(task.positions)
     n = len(positions)
     if n == 3:
@@ -123,7 +134,7 @@ def _guidance(task: GuidanceTask):
     elif n == 4:
         groups = [gd.circle_point_curve(positions, [x]) for x in task.circle_x]
     else:
-        found = gd.burmester_points(positions)
+        found = gd.burmester_points(positions, method=method, seeds=seeds)
         groups = [[d] for d in found]
     notes = []
     if n == 5:
@@ -166,8 +177,8 @@ def _rotations(task: RotationTask):
     return 1, [Solution(fb, check(fb, A, B), res, (note,))], []
 
 
-def _function(task: fn.FunctionTask):
-    gens = fn.solve(task)
+def _function(task: fn.FunctionTask, method: str = "exact", seeds: int = 64):
+    gens = fn.solve(task, method, seeds)
     xs = np.sort(np.asarray(task.points, dtype=float))
     sols = []
     for g in gens:
@@ -193,8 +204,8 @@ def generator_fourbar(g: fn.FunctionGenerator, theta: float, phi: float) -> Four
 
 # -- path generation ----------------------------------------------------------------------------
 
-def _path(task: PathTask):
-    found = pt.five_points(task.points, task.a0, task.b0)
+def _path(task: PathTask, method: str = "exact", seeds: int = 64):
+    found = pt.five_points(task.points, task.a0, task.b0, method=method, seeds=seeds)
     sols = []
     for f in found:
         fb = FourBar(task.a0, f.a1, f.b1, task.b0, task.points[0])
@@ -204,4 +215,6 @@ def _path(task: PathTask):
                     for j in range(len(A)))
         sols.append(Solution(fb, check(fb, A, B), res, (
             "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),)))
-    return len(found), sols, [f"{len(found)} real solution(s) on a {pt.GRID} × {pt.GRID} grid of (θ12, θ13)"]
+    where = (f"on {pt.GRID} × {pt.GRID} grids of (θ12, θ13) and (θ14, θ15)" if method == "exact"
+             else f"from {seeds} random starts (fast: some roots may be missing)")
+    return len(found), sols, [f"{len(found)} real solution(s) {where}"]
