@@ -78,14 +78,19 @@ def stretches(count, seed=3):
         out.append(points[idx] * 2.0 + [3.0, -1.0])
 
 
-def run_open(spec, tols, paths, candidates=30, nfev=150):
+def built(make, spec):
+    """The table ``make(spec)`` builds, the seconds it took, and its size in MB as an HDF5 file."""
     t = time.perf_counter()
-    table = build_windows(spec)
+    table = make(spec)
     seconds = time.perf_counter() - t
     with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "windows.h5"
+        path = Path(tmp) / "atlas.h5"
         save_atlas(table, path)
-        megabytes = path.stat().st_size / 1e6
+        return table, seconds, path.stat().st_size / 1e6
+
+
+def run_open(spec, tols, paths, candidates=30, nfev=150):
+    table, seconds, megabytes = built(build_windows, spec)
     atlas = OpenAtlas(table)
     rows = []
     for tol in tols:
@@ -117,13 +122,7 @@ def run_peer(paths, generations):
 
 
 def run(spec, settings, paths):
-    t = time.perf_counter()
-    table = build(spec)
-    seconds = time.perf_counter() - t
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "atlas.h5"
-        save_atlas(table, path)
-        megabytes = path.stat().st_size / 1e6
+    table, seconds, megabytes = built(build, spec)
     atlas = Atlas(table)
     rows = []
     for candidates, nfev in settings:

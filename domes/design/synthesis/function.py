@@ -316,11 +316,10 @@ def _five_point_starts(dth, dph):
         if res.size - 1 < 8:   # a lost degree: the root at infinity, θ0 = 90°
             us.append(math.inf)
         for u in us:
-            for th0 in {math.atan(u) if math.isfinite(u) else math.pi / 2} | {
-                    _wrap((math.atan(u) if math.isfinite(u) else math.pi / 2) + math.pi)}:
+            base = math.atan(u) if math.isfinite(u) else math.pi / 2
+            for th0 in (base, _wrap(base + math.pi)):
                 ct, st = math.cos(th0), math.sin(th0)
-                q = F @ np.array([ct * ct, ct * st, st * st])
-                a, b, g = q
+                a, b, g = F @ np.array([ct * ct, ct * st, st * st])
                 for ph0 in _unit_roots(a, b, g, max(abs(a), abs(b), abs(g), 1e-300)):
                     starts.append(_polish(dth, dph, th0, ph0))
     return [s for s in starts if s is not None]

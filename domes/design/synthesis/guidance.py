@@ -172,9 +172,8 @@ def circle_point_curve(positions: list[Position], xs) -> list[Dyad]:
     Ds, s = displacements(positions), size(positions)
     for x in xs:
         for y in circle_points_at(positions, float(x)):
-            images = [moved(D, (float(x), y)) for D in Ds]
-            if min(math.dist(p, q) for i, p in enumerate(images) for q in images[:i]) <= 1e-9 * s:
-                continue                                     # a pole
+            if _is_pole(Ds, (float(x), y), 1e-9 * s):
+                continue
             try:
                 out.append(dyad(positions, (float(x), y)))
             except InputError:
@@ -213,17 +212,8 @@ def burmester_points(positions: list[Position], reach: float = 10.0, method: str
         centre = np.mean([p.point for p in positions], axis=0)
         for guess in centre + 2 * s * np.random.default_rng(seed).standard_normal((seeds, 2)):
             sol = _polish_xy(Ds, (0, 1, 2, 3), (0, 1, 2, 4), guess, s)
-            if sol is None:
-                continue
-            images = [moved(D, sol) for D in Ds]
-            if min(math.dist(p, q) for i, p in enumerate(images) for q in images[:i]) <= 1e-6 * s:
-                continue
-            try:
-                d = dyad(positions, sol)
-            except InputError:
-                continue
-            if d.residual <= 1e-9 * max(s, d.radius) and not any(math.dist(d.a1, e.a1) <= 1e-7 * s for e in found):
-                found.append(d)
+            if sol is not None and not _is_pole(Ds, sol, 1e-6 * s):
+                _keep(positions, sol, found, s)
         return found
     if method != "exact":
         raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
@@ -232,14 +222,25 @@ def burmester_points(positions: list[Position], reach: float = 10.0, method: str
         turned = [Position((c * p.point[0] - si * p.point[1], si * p.point[0] + c * p.point[1]), p.angle + turn)
                   for p in positions]
         for a1 in _burmester_once(turned, reach):
-            back = (c * a1[0] + si * a1[1], -si * a1[0] + c * a1[1])
-            try:
-                d = dyad(positions, back)
-            except InputError:
-                continue
-            if d.residual <= 1e-9 * max(s, d.radius) and not any(math.dist(d.a1, e.a1) <= 1e-7 * s for e in found):
-                found.append(d)
+            _keep(positions, (c * a1[0] + si * a1[1], -si * a1[0] + c * a1[1]), found, s)
     return found
+
+
+def _is_pole(Ds, a1, tol: float) -> bool:
+    """Whether two positions of the point ``a1`` coincide (within ``tol``): a pole, not a guiding crank."""
+    images = [moved(D, a1) for D in Ds]
+    return min(math.dist(p, q) for i, p in enumerate(images) for q in images[:i]) <= tol
+
+
+def _keep(positions, a1, found: list[Dyad], s: float) -> None:
+    """Add the crank through circle point ``a1`` to ``found`` when it guides through every position (to 1e-9)
+    and is not there yet."""
+    try:
+        d = dyad(positions, a1)
+    except InputError:
+        return
+    if d.residual <= 1e-9 * max(s, d.radius) and not any(math.dist(d.a1, e.a1) <= 1e-7 * s for e in found):
+        found.append(d)
 
 
 def _burmester_once(positions: list[Position], reach: float) -> list[np.ndarray]:
@@ -274,11 +275,8 @@ def _burmester_once(positions: list[Position], reach: float) -> list[np.ndarray]
             if abs(r.imag) > 1e-5 * max(1.0, abs(r)):
                 continue
             sol = _polish_xy(Ds, first, second, np.array([x, c0 + sc * r.real]), s)
-            if sol is None:
-                continue
-            images = np.array([moved(D, sol) for D in Ds])
-            if min(np.linalg.norm(images[j] - images[k]) for j in range(5) for k in range(j)) > 1e-6 * s:
-                out.append(sol)                                # not a pole: two positions of the point coincide
+            if sol is not None and not _is_pole(Ds, sol, 1e-6 * s):
+                out.append(sol)
     return out
 
 

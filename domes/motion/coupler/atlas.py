@@ -370,18 +370,7 @@ class Atlas:
                 ii = int(ii)
                 if ii not in best or dd < best[ii].distance:
                     best[ii] = Candidate(ii, float(dd), reading)
-        ranked = sorted(best.values(), key=lambda c: c.distance)
-        if not distinct:
-            return ranked[:k]
-        seen, out = set(), []
-        for cand in ranked:
-            key = int(self.table.link[cand.index])
-            if key not in seen:
-                seen.add(key)
-                out.append(cand)
-            if len(out) == k:
-                break
-        return out
+        return _nearest(best, k, (lambda i: int(self.table.link[i])) if distinct else None)
 
     def describe_entry(self, index: int) -> str:
         a, b, c, d = self.table.lengths(index)
@@ -413,18 +402,23 @@ class OpenAtlas:
                     window = (int(self.table.circuit[ii]), float(self.table.start[ii]), float(self.table.fraction[ii]),
                               backwards, mirror)
                     best[ii] = Candidate(ii, float(dd), reading, window)
-        ranked = sorted(best.values(), key=lambda c: c.distance)
-        if not distinct:
-            return ranked[:k]
-        seen, out = set(), []
-        for cand in ranked:
-            key = (int(self.table.link[cand.index]), tuple(self.table.point[cand.index]))
-            if key not in seen:
-                seen.add(key)
-                out.append(cand)
+        return _nearest(best, k, (lambda i: (int(self.table.link[i]), tuple(self.table.point[i]))) if distinct else None)
+
+
+def _nearest(best: dict, k: int, key=None) -> list[Candidate]:
+    """The ``k`` nearest candidates; with ``key``, at most one per key of their row (the nearest)."""
+    ranked = sorted(best.values(), key=lambda c: c.distance)
+    if key is None:
+        return ranked[:k]
+    seen, out = set(), []
+    for cand in ranked:
+        group = key(cand.index)
+        if group not in seen:
+            seen.add(group)
+            out.append(cand)
             if len(out) == k:
                 break
-        return out
+    return out
 
 
 def table_curve(table: AtlasTable, index: int, samples: int = 360) -> np.ndarray:
