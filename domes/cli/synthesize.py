@@ -17,9 +17,11 @@ import math
 
 from domes.cli.common import write_output
 from domes.design.synthesis import synthesize
+from domes.design.synthesis.candidate import Dimensioning
 from domes.design.synthesis.solve import generator_fourbar
 from domes.io.files import check_target
 from domes.io.tasks import load_task
+from domes.sketch.synthesis import synthesis_html
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -31,13 +33,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         "points; function generation: 3, 4 or 5 precision points, with the structural error over the range and "
         "optional re-spacing; path generation: five points with both fixed pivots given), each checked (branch, "
         "order and dead-point defects, Grashof class, transmission angle) and "
-        "written as a mechanism file for domes kinematics and domes draw. See docs/synthesis.md.",
+        "written as a mechanism file for domes kinematics and domes draw. A 'curve' task dimensions the labelled "
+        "candidates of a scene by least squares against a wanted curve (a motorcycle's leverage ratio). See "
+        "docs/synthesis.md.",
     )
     p.add_argument("task", metavar="TASK.json", help="the task file (examples in examples/synthesis/)")
     p.add_argument("--method", choices=("exact", "fast"), default="exact",
                    help="exact: every real root (default); fast: Newton from random starts, may miss roots")
     p.add_argument("--seeds", type=int, default=64, help="random starts of the fast method (default 64)")
-    p.add_argument("--format", choices=("text", "json"), default="text")
+    p.add_argument("--format", choices=("text", "json", "html"), default="text",
+                   help="text (default), json (each solution a mechanism file), or an html page of drawings")
     p.add_argument("--all", action="store_true", help="also list the rejected solutions (text)")
     p.add_argument("--output", "-o", help="write to this file (atomically) instead of standard output")
     p.set_defaults(func=run)
@@ -46,8 +51,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args) -> int:
     if args.output:
         check_target(args.output)
-    result = synthesize(load_task(args.task), args.method, args.seeds)
-    text = _json(result) if args.format == "json" else _text(result, args.all)
+    task = load_task(args.task)
+    result = synthesize(task, args.method, args.seeds)
+    if args.format == "html":
+        text = synthesis_html(result, task)
+    elif isinstance(result, Dimensioning):
+        text = _curve_json(result) if args.format == "json" else _curve_text(result, args.all)
+    else:
+        text = _json(result) if args.format == "json" else _text(result, args.all)
     write_output(text, args.output)
     return 0 if result.success else 1
 
@@ -104,4 +115,36 @@ def _text(result, everything: bool) -> str:
                          f"{r.iterations} steps)")
     if not everything and len(result.usable) < len(result.solutions):
         lines.append(f"# {len(result.solutions) - len(result.usable)} rejected solution(s) not shown (--all lists them)")
+    return "\n".join(lines) + "\n"
+
+
+def _curve_dict(s) -> dict:
+    return {"candidate": s.candidate, "mechanism": s.mechanism.to_dict(), "usable": s.usable,
+            "defects": list(s.defects), "error": s.error, "rms": s.rms,
+            "min_transmission_deg": s.min_transmission_deg, "length": list(s.length) if s.length else None,
+            "x": list(s.x), "achieved": list(s.achieved), "wanted": list(s.wanted), "notes": list(s.notes)}
+
+
+def _curve_json(result) -> str:
+    data = {"task": result.task_name, "kind": result.kind, "status": str(result.status), "message": result.message,
+            "candidates": list(result.candidates), "screened": result.screened, "polished": result.polished,
+            "seconds": result.seconds, "notes": list(result.notes),
+            "solutions": [_curve_dict(s) for s in result.solutions]}
+    return json.dumps(data, indent=1) + "\n"
+
+
+def _curve_text(result, everything: bool) -> str:
+    lines = [f"# {result.message}", f"# {result.screened:,} random layouts screened per candidate, the best "
+             f"{result.polished} polished by least squares"] + [f"# {n}" for n in result.notes]
+    shown = result.solutions if everything else result.usable
+    for k, s in enumerate(shown, 1):
+        state = "verified" if s.usable else "rejected: " + "; ".join(s.defects)
+        length = f"; length {s.length[0]:.4g} to {s.length[1]:.4g}" if s.length else ""
+        lines.append(f"{k}. candidate {s.candidate}: {state}; curve error {100 * s.error:.3g}% largest, "
+                     f"{100 * s.rms:.3g}% RMS; smallest transmission angle {s.min_transmission_deg:.1f}°{length}")
+        lines.append("   joints " + ", ".join(f"{j.name} {_fmt(j.at)}" for j in s.mechanism.joints if j.kind == "R"))
+        for note in s.notes:
+            lines.append(f"   {note}")
+    if not everything and len(result.usable) < len(result.solutions):
+        lines.append(f"# {len(result.solutions) - len(result.usable)} rejected layout(s) not shown (--all lists them)")
     return "\n".join(lines) + "\n"

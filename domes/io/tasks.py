@@ -9,16 +9,25 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
+from domes.design.synthesis.candidate import CurveTask
 from domes.design.synthesis.task import task_from_dict
 from domes.errors import InputError
 from domes.io.files import read_text
+from domes.io.scenes import load_scene
+from domes.typesynth.regenerate import regenerate
 
 
-def load_task(path: str | Path):
-    """Read a task file; errors name the file and the entry."""
+def load_task(path: str | Path, candidates=None):
+    """Read a task file; errors name the file and the entry.
+
+    A ``curve`` task gets its candidates: ``candidates`` (``(id, labelled
+    chain)`` pairs, e.g. a design case's kept ones) or else those of its
+    ``scene``, regenerated, narrowed to the ids its ``candidates`` entry lists.
+    """
     text = read_text(path)
     try:
         data = json.loads(text)
@@ -26,4 +35,24 @@ def load_task(path: str | Path):
         raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}") from None
     if isinstance(data, dict) and "name" not in data:
         data = {**data, "name": Path(path).stem}
-    return task_from_dict(data, str(path))
+    task = task_from_dict(data, str(path))
+    if isinstance(task, CurveTask):
+        task = dataclasses.replace(task, candidates=tuple(candidates) if candidates is not None
+                                   else _scene_candidates(task, data.get("candidates", "all"), path))
+    return task
+
+
+def _scene_candidates(task: CurveTask, wanted, path) -> tuple:
+    if task.scene is None:
+        raise InputError(f"{path}: a curve task names the 'scene' whose candidates it dimensions")
+    scene = Path(path).parent / task.scene
+    result = regenerate(load_scene(scene if task.scene.endswith(".toml") and scene.is_file() else task.scene))
+    found = tuple((c.id, c.labelled) for c in result.candidates)
+    if wanted == "all":
+        return found
+    ids = {cid for cid, _ in found}
+    if (not isinstance(wanted, list) or not wanted
+            or not all(isinstance(k, int) and not isinstance(k, bool) and k in ids for k in wanted)):
+        raise InputError(f"{path}: 'candidates' must be \"all\" or a list of the scene's candidate numbers "
+                         f"{sorted(ids)}, got {wanted!r}")
+    return tuple((cid, c) for cid, c in found if cid in wanted)

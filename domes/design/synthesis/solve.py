@@ -28,6 +28,7 @@ import numpy as np
 from domes.design.synthesis import function as fn
 from domes.design.synthesis import guidance as gd
 from domes.design.synthesis import path as pt
+from domes.design.synthesis.candidate import CurveTask, Dimensioning, dimension
 from domes.design.synthesis.displacement import moved, rotation_about
 from domes.design.synthesis.fourbars import Checks, FourBar, check
 from domes.design.synthesis.task import GuidanceTask, PathTask, RotationTask
@@ -45,6 +46,7 @@ class Solution:
     notes: tuple[str, ...] = ()
     structural: fn.StructuralError | None = None
     respaced: fn.Respacing | None = None
+    poses: tuple = ()           # the moving pivots ((a_jx, a_jy), (b_jx, b_jy)) at every precision position
 
     @property
     def residual(self) -> float:
@@ -85,8 +87,12 @@ class Synthesis(Listing):
                 f"{len(self.usable)} usable; {self.seconds * 1e3:.1f} ms")
 
 
-def synthesize(task, method: str = "exact", seeds: int = 64) -> Synthesis:
+def synthesize(task, method: str = "exact", seeds: int = 64) -> Synthesis | Dimensioning:
     """Dimension a four-bar for ``task`` (guidance, function, rotations or path): every real solution, checked.
+
+    A :class:`~domes.design.synthesis.candidate.CurveTask` dimensions its
+    labelled candidates by least squares instead and returns a
+    :class:`~domes.design.synthesis.candidate.Dimensioning`.
 
     ``method="exact"`` finds every real root (closed forms, resultants, the
     path search); ``method="fast"`` polishes ``seeds`` random starts where
@@ -97,6 +103,10 @@ def synthesize(task, method: str = "exact", seeds: int = 64) -> Synthesis:
         raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
     if not (isinstance(seeds, int) and 1 <= seeds <= 100_000):
         raise InputError(f"seeds must be a whole number from 1 to 100,000, got {seeds!r}")
+    if isinstance(task, CurveTask):
+        if not task.candidates:
+            raise InputError(f"{task.name}: no candidate to dimension (give a scene or candidates)")
+        return dimension(task, task.candidates, method, seeds)
     started = time.perf_counter()
     knobs = {"method": method, "seeds": seeds}
     if isinstance(task, GuidanceTask):
@@ -152,8 +162,12 @@ def _guidance(task: GuidanceTask, method: str = "exact", seeds: int = 64):
         B = [moved(D, b.a1) for D in Ds]
         res = tuple(max(abs(np.linalg.norm(A[j] - a.a0) - a.radius), abs(np.linalg.norm(B[j] - b.a0) - b.radius))
                     for j in range(n))
-        sols.append(Solution(fb, check(fb, A, B), res))
+        sols.append(Solution(fb, check(fb, A, B), res, poses=_poses(A, B)))
     return roots, sols, notes
+
+
+def _poses(A, B) -> tuple:
+    return tuple(((float(a[0]), float(a[1])), (float(b[0]), float(b[1]))) for a, b in zip(A, B))
 
 
 # -- function generation ----------------------------------------------------------------------
@@ -174,7 +188,7 @@ def _rotations(task: RotationTask):
     b = fb.lengths[1]
     res = tuple(abs(float(np.linalg.norm(np.subtract(B[j], A[j]))) - b) for j in range(3))
     note = f"inversion (2-109) and Freudenstein's equation agree on the lengths to {agree:.1e}"
-    return 1, [Solution(fb, check(fb, A, B), res, (note,))], []
+    return 1, [Solution(fb, check(fb, A, B), res, (note,), poses=_poses(A, B))], []
 
 
 def _function(task: fn.FunctionTask, method: str = "exact", seeds: int = 64):
@@ -192,7 +206,7 @@ def _function(task: fn.FunctionTask, method: str = "exact", seeds: int = 64):
         respaced = fn.respace(task, g) if not err.defects and task.respace else None
         notes = (f"largest structural error {math.degrees(err.largest):.4g}° of rocker rotation "
                  f"({abs(err.largest / task.k_phi):.3g} in y)",) if np.isfinite(err.largest) else ()
-        sols.append(Solution(fb, check(fb, A, B), res, notes, err, respaced))
+        sols.append(Solution(fb, check(fb, A, B), res, notes, err, respaced, _poses(A, B)))
     return len(gens), sols, []
 
 
@@ -214,7 +228,8 @@ def _path(task: PathTask, method: str = "exact", seeds: int = 64):
         res = tuple(max(abs(math.dist(A[j], task.a0) - a_r), abs(math.dist(B[j], task.b0) - b_r))
                     for j in range(len(A)))
         sols.append(Solution(fb, check(fb, A, B), res, (
-            "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),)))
+            "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),),
+            poses=_poses(A, B)))
     where = (f"on {pt.GRID} × {pt.GRID} grids of (θ12, θ13) and (θ14, θ15)" if method == "exact"
              else f"from {seeds} random starts (fast: some roots may be missing)")
     return len(found), sols, [f"{len(found)} real solution(s) {where}"]

@@ -19,6 +19,13 @@ which one is wrong. Kinds:
   from (0, 0) to (1, 0)).
 - ``path``: five ``points`` of the coupler path and both fixed pivots
   ``a0`` and ``b0`` (Table 2-1's free choices for five points).
+- ``curve``: any labelled candidate (those of ``scene``, or the ids in
+  ``candidates``) dimensioned by least squares: the ``input`` (``role``,
+  ``pivot``, ``rotation_deg``) turns a link carrying ``point`` (``name``,
+  ``at``); ``wanted`` (``quantity`` leverage, length or angle, ``of`` a
+  role, ``function`` of x, ``samples``, ``tolerance``); the ``box`` the
+  joints are placed in; ``limits`` (``min_transmission_deg``, ``length``).
+  See :mod:`~domes.design.synthesis.candidate`.
 
 >>> t = task_from_dict({"kind": "function", "function": "log10(x)", "range": [1, 10], "input_deg": 60,
 ...                     "output_deg": -90, "points": 4, "start_deg": [20, None]})
@@ -28,50 +35,15 @@ which one is wrong. Kinds:
 
 from __future__ import annotations
 
-import ast
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
+from domes.design.synthesis.candidate import CurveTask
+from domes.design.synthesis.expressions import expression
 from domes.design.synthesis.function import FunctionTask, chebyshev, check_function
 from domes.design.synthesis.guidance import Position, check_positions
 from domes.design.synthesis.path import check_path
 from domes.errors import InputError
-
-#: Names an expression of ``x`` may use.
-FUNCTIONS = {"sin": np.sin, "cos": np.cos, "tan": np.tan, "exp": np.exp, "log": np.log, "log10": np.log10,
-             "sqrt": np.sqrt, "abs": np.abs, "arctan": np.arctan, "sinh": np.sinh, "cosh": np.cosh, "tanh": np.tanh}
-CONSTANTS = {"pi": math.pi, "e": math.e}
-_NODES = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Constant, ast.Load, ast.Add, ast.Sub,
-          ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)
-
-
-def expression(text: str, where: str = "function"):
-    """A vectorised function of ``x`` from an expression such as ``log10(x)`` or ``x**2 + 1`` (no other names)."""
-    try:
-        tree = ast.parse(str(text), mode="eval")
-    except SyntaxError as exc:
-        raise InputError(f"{where}: {text!r} is not an expression of x ({exc.msg})") from None
-    for node in ast.walk(tree):
-        if not isinstance(node, _NODES):
-            raise InputError(f"{where}: {text!r}: {type(node).__name__} is not allowed in a function of x")
-        if isinstance(node, ast.Name) and node.id != "x" and node.id not in FUNCTIONS and node.id not in CONSTANTS:
-            raise InputError(f"{where}: {text!r}: unknown name {node.id!r} (use x, {', '.join(sorted(FUNCTIONS))}, "
-                             "pi, e)")
-        if isinstance(node, ast.Call) and not (isinstance(node.func, ast.Name) and node.func.id in FUNCTIONS):
-            raise InputError(f"{where}: {text!r}: only the functions {', '.join(sorted(FUNCTIONS))} may be called")
-        if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
-            raise InputError(f"{where}: {text!r}: only numbers may appear as constants")
-    code = compile(tree, where, "eval")
-    names = {"__builtins__": {}, **FUNCTIONS, **CONSTANTS}
-
-    def f(x):
-        with np.errstate(all="ignore"):
-            return eval(code, names, {"x": np.asarray(x, dtype=float)})  # noqa: S307 - AST checked above
-
-    f.text = str(text)
-    return f
 
 
 @dataclass(frozen=True)
@@ -189,4 +161,44 @@ def task_from_dict(data: dict, where: str = "task"):
         t = PathTask(pts, _pair(data.get("a0"), f"{where}: a0"), _pair(data.get("b0"), f"{where}: b0"), name)
         check_path(t.points, t.a0, t.b0)
         return t
-    raise InputError(f"{where}: 'kind' must be 'guidance', 'function' or 'path', got {kind!r}")
+    if kind == "curve":
+        return _curve(data, where, name)
+    raise InputError(f"{where}: 'kind' must be 'guidance', 'function', 'path' or 'curve', got {kind!r}")
+
+
+def _section(data, key, where) -> dict:
+    value = data.get(key)
+    if not isinstance(value, dict):
+        raise InputError(f"{where}: {key!r} must be an object, got {value!r}")
+    return value
+
+
+def _curve(data: dict, where: str, name: str) -> CurveTask:
+    """A least-squares task for labelled candidates (kind ``curve``)."""
+    inp, point, wanted = (_section(data, k, where) for k in ("input", "point", "wanted"))
+    limits = data.get("limits", {})
+    if not isinstance(limits, dict):
+        raise InputError(f"{where}: 'limits' must be an object")
+    box = data.get("box")
+    if not isinstance(box, list) or len(box) != 2:
+        raise InputError(f"{where}: 'box' must be [[xmin, xmax], [ymin, ymax]], the space the joints are placed in")
+    for key, value in (("input role", inp.get("role")), ("wanted of", wanted.get("of")),
+                       ("wanted quantity", wanted.get("quantity"))):
+        if not isinstance(value, str) or not value:
+            raise InputError(f"{where}: {key} must be a name, got {value!r}")
+    samples = wanted.get("samples", 25)
+    if isinstance(samples, bool) or not isinstance(samples, int):
+        raise InputError(f"{where}: wanted samples must be a whole number, got {samples!r}")
+    length = limits.get("length")
+    scene = data.get("scene")
+    if scene is not None and not isinstance(scene, str):
+        raise InputError(f"{where}: 'scene' must be a scene name or file, got {scene!r}")
+    return CurveTask(
+        name, inp["role"], _pair(inp.get("pivot", [0, 0]), f"{where}: input pivot"),
+        _pair(point.get("at"), f"{where}: point at"), math.radians(_number(inp, "rotation_deg", f"{where}: input")),
+        wanted["quantity"], wanted["of"], expression(wanted.get("function", ""), f"{where}: wanted function"),
+        (_pair(box[0], f"{where}: box x"), _pair(box[1], f"{where}: box y")), samples,
+        str(point.get("name", "P")),
+        math.radians(_number(limits, "min_transmission_deg", f"{where}: limits", 30.0)),
+        None if length is None else _pair(length, f"{where}: limits length"),
+        _number(wanted, "tolerance", f"{where}: wanted", 0.02), scene)

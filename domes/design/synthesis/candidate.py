@@ -1,0 +1,439 @@
+"""Any labelled candidate dimensioned by least squares against a wanted curve (issue 13, item 5).
+
+A :class:`CurveTask` says what the mechanism must do over a stroke of its
+input: the link with role ``input_role`` turns about its ground pivot
+``pivot`` by ``rotation``, carrying the point ``point``; the wanted curve
+is a function of ``x`` for one quantity:
+
+- ``leverage``: the point's rise over the shortening of the length between
+  the two outer pivots of the two links with role ``of`` (joined by a P
+  joint: a shock absorber), ``x`` the point's rise (a motorcycle's leverage
+  ratio over wheel travel: falling for a rising-rate suspension);
+- ``length``: that length, ``x`` the input's rotation in degrees;
+- ``angle``: the rotation (degrees) of the link with role ``of``, ``x`` the
+  input's rotation in degrees.
+
+:func:`dimension` places every joint but the input pivot in the task's
+``box``: it screens many random layouts at once with the compiled kernel
+(:mod:`domes.motion.planar.kernel`: closed-form dyads on arrays, the
+rates analytic), polishes the best by ``scipy.optimize.least_squares``
+(bounds, Jacobian by forward differences, all columns in one batch of the
+kernel), and verifies each result along the whole stroke by the backend's
+continuation sweep, an independent route. What is fitted is the *motion
+ratio* ``−dℓ/dy`` times the wanted leverage, minus one: the relative error
+of the leverage, smooth where the shock stops moving. Transmission angles,
+the length's range and link lengths enter as penalties.
+
+>>> from domes.model import LabelledChain
+>>> from domes.design.synthesis.expressions import expression
+>>> c = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (3, 0)],
+...                         roles={0: {"ground"}, 1: {"crank"}, 3: {"rocker"}})
+>>> task = CurveTask("rocker", "crank", (0.0, 0.0), (1.0, 0.0), math.radians(60), "angle", "rocker",
+...                  expression("0.5 * x"), box=((-1.0, 4.0), (-2.5, 2.5)))
+>>> result = dimension(task, [(1, c)], seeds=8)
+>>> result.usable[0].error < 0.02
+True
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from domes.errors import InputError
+from domes.model.mechanism import CouplerPoint, Mechanism, from_labelled
+from domes.motion.planar.kernel import Program
+from domes.motion.planar.query import Kinematics
+from domes.motion.planar.sweep import sweep
+from domes.results import Listing, Status
+
+QUANTITIES = ("leverage", "length", "angle")
+
+#: Weight of a penalty (transmission, length range, short links) against the relative curve error.
+PENALTY = 10.0
+#: Penalties start this far inside their limits (rad for the transmission angle, a fraction of the length range),
+#: so that a polished layout meets the limits themselves.
+MARGIN = 0.005
+
+
+@dataclass(frozen=True)
+class CurveTask:
+    """A wanted curve over a stroke of the input (see the module's docstring); angles in rad."""
+
+    name: str
+    input_role: str
+    pivot: tuple[float, float]
+    point: tuple[float, float]
+    rotation: float
+    quantity: str
+    of: str
+    wanted: object
+    box: tuple[tuple[float, float], tuple[float, float]]
+    samples: int = 25
+    point_name: str = "P"
+    min_transmission: float = math.radians(30)
+    length_range: tuple[float, float] | None = None
+    tolerance: float = 0.02
+    scene: str | None = None
+    candidates: tuple = ()
+
+    def __post_init__(self):
+        if self.quantity not in QUANTITIES:
+            raise InputError(f"{self.name}: 'quantity' must be one of {', '.join(QUANTITIES)}, got {self.quantity!r}")
+        if not (isinstance(self.samples, int) and 5 <= self.samples <= 1000):
+            raise InputError(f"{self.name}: 'samples' must be a whole number from 5 to 1000, got {self.samples!r}")
+        (x0, x1), (y0, y1) = self.box
+        if not (x0 < x1 and y0 < y1):
+            raise InputError(f"{self.name}: 'box' must be [[xmin, xmax], [ymin, ymax]] with min < max")
+        if not 0 < abs(self.rotation) < 2 * math.pi:
+            raise InputError(f"{self.name}: the input's rotation must be nonzero and under a full turn")
+        if math.dist(self.pivot, self.point) <= 1e-9 * self.size:
+            raise InputError(f"{self.name}: the point coincides with the input's pivot: it does not move")
+        if not 0 < self.tolerance < 1:
+            raise InputError(f"{self.name}: 'tolerance' (relative curve error) must be between 0 and 1")
+        xs = self.xs()
+        with np.errstate(all="ignore"):
+            w = np.broadcast_to(np.asarray(self.wanted(xs), dtype=float), xs.shape)
+        if not np.all(np.isfinite(w)):
+            bad = float(xs[np.flatnonzero(~np.isfinite(w))[0]])
+            raise InputError(f"{self.name}: the wanted curve is undefined at x = {bad:.6g}")
+        if self.quantity == "leverage" and np.any(w <= 0):
+            raise InputError(f"{self.name}: a leverage ratio must be positive over the stroke")
+
+    @property
+    def size(self) -> float:
+        (x0, x1), (y0, y1) = self.box
+        return max(x1 - x0, y1 - y0)
+
+    def rotations(self) -> np.ndarray:
+        """The input's rotation from the start at each sample (rad)."""
+        return np.linspace(0.0, self.rotation, self.samples)
+
+    def xs(self) -> np.ndarray:
+        """``x`` at each sample: the point's rise (leverage) or the rotation in degrees."""
+        t = self.rotations()
+        if self.quantity != "leverage":
+            return np.degrees(t)
+        d = complex(*self.point) - complex(*self.pivot)
+        return (d * np.exp(1j * t)).imag - d.imag
+
+
+@dataclass(frozen=True)
+class Dimensioned:
+    """A candidate with dimensions: its mechanism, the curve it gives, the error and the checks."""
+
+    candidate: int
+    mechanism: Mechanism
+    x: tuple[float, ...]
+    achieved: tuple[float, ...]
+    wanted: tuple[float, ...]
+    error: float
+    rms: float
+    min_transmission_deg: float
+    length: tuple[float, float] | None
+    defects: tuple[str, ...] = ()
+    notes: tuple[str, ...] = ()
+
+    @property
+    def usable(self) -> bool:
+        return not self.defects
+
+
+@dataclass(frozen=True, eq=False)
+class Dimensioning(Listing):
+    """The best layouts of every candidate; ``screened`` random layouts were tried, ``polished`` polished."""
+
+    task_name: str
+    solutions: tuple[Dimensioned, ...]
+    candidates: tuple[int, ...]
+    screened: int
+    polished: int
+    seconds: float
+    notes: tuple[str, ...] = field(default_factory=tuple)
+    kind: str = "curve"
+    items_field = "solutions"
+
+    @property
+    def roots(self) -> int:
+        return len(self.solutions)
+
+    @property
+    def usable(self) -> tuple[Dimensioned, ...]:
+        return tuple(s for s in self.solutions if s.usable)
+
+    @property
+    def status(self) -> Status:
+        return Status.COMPLETE if self.usable else Status.EMPTY
+
+    @property
+    def message(self) -> str:
+        done = sorted({s.candidate for s in self.usable})
+        return (f"{self.status}: {self.task_name}: {len(self.candidates)} candidate(s), {len(self.usable)} verified "
+                f"layout(s) for candidate(s) {', '.join(map(str, done)) or 'none'}; {self.seconds:.1f} s")
+
+
+class Model:
+    """A candidate made a function of its free joint coordinates, evaluated many layouts at a time."""
+
+    def __init__(self, chain, task: CurveTask, name: str = "candidate"):
+        self.task = task
+        ground = _one(chain, "ground")
+        driven = _one(chain, task.input_role)
+        if (min(ground, driven), max(ground, driven)) not in chain.edges:
+            raise InputError(f"link {driven} ({task.input_role}) is not jointed to the ground {ground}: the task "
+                             "turns it about a ground pivot")
+        names = {e: f"J{e[0]}-{e[1]}" for e in chain.edges}
+        kinds = dict(zip(chain.edges, chain.joint_types))
+        self.fixed = names[(min(ground, driven), max(ground, driven))]
+        self.slider = None
+        if task.quantity in ("leverage", "length"):
+            pair = chain.links_with_role(task.of)
+            if len(pair) != 2 or kinds.get((min(pair), max(pair))) != "P":
+                raise InputError(f"role {task.of!r}: a length needs two links joined by a P joint (a cylinder and "
+                                 f"its piston), found links {pair}")
+            ends = []
+            for k in pair:
+                others = [e for e in chain.edges if k in e and e != (min(pair), max(pair))]
+                if len(others) != 1 or kinds[others[0]] != "R":
+                    raise InputError(f"role {task.of!r}: link {k} must carry one R joint besides the P joint")
+                ends.append(names[others[0]])
+            self.slider = names[(min(pair), max(pair))]
+            self.ends = tuple(ends)
+        else:
+            self.of_link = str(_one(chain, task.of))
+        if any(t == "P" and names[e] != self.slider for e, t in kinds.items()):
+            raise InputError("least-squares dimensioning places R joints; a P joint is only taken as the slide "
+                             f"between the two links of role {task.of!r}")
+        self.free = [names[e] for e in chain.edges if kinds[e] == "R" and names[e] != self.fixed]
+        self.links = {str(k): [names[e] for e in chain.edges if k in e and names[e] != self.slider]
+                      for k in range(chain.n)}
+        rng = np.random.default_rng(0)
+        at = {e: tuple(task.pivot) if names[e] == self.fixed else tuple(self._random(rng, 1)[0]) for e in chain.edges}
+        directions = {}
+        if self.slider:
+            inv = {v: k for k, v in names.items()}
+            at[inv[self.slider]] = at[inv[self.ends[1]]]
+            p, q = at[inv[self.ends[0]]], at[inv[self.ends[1]]]
+            directions[inv[self.slider]] = math.atan2(q[1] - p[1], q[0] - p[0])
+        self.template = from_labelled(chain, at, directions, inputs=[(ground, driven)], name=name,
+                                      points=[CouplerPoint(task.point_name, str(driven), tuple(task.point))])
+        outputs = [f"point:{task.point_name}"] + [f"angle:{k}" for k in self.template.links
+                                                   if k != self.template.ground]
+        if self.slider:
+            outputs += [f"point:{e}" for e in self.ends]
+        self.program = Program(Kinematics(self.template, outputs, order=1))
+        self.ts = task.rotations()
+        self.xs = task.xs()
+        with np.errstate(all="ignore"):
+            self.wanted = np.broadcast_to(np.asarray(task.wanted(self.xs), dtype=float), self.xs.shape).copy()
+
+    def _random(self, rng, count):
+        (x0, x1), (y0, y1) = self.task.box
+        return np.c_[rng.uniform(x0, x1, count), rng.uniform(y0, y1, count)]
+
+    def random(self, rng, count: int) -> np.ndarray:
+        """``count`` random layouts (rows of free coordinates) in the box."""
+        return np.hstack([self._random(rng, count) for _ in self.free])
+
+    def bounds(self):
+        (x0, x1), (y0, y1) = self.task.box
+        return np.tile([x0, y0], len(self.free)), np.tile([x1, y1], len(self.free))
+
+    def coordinates(self, rows: np.ndarray) -> dict:
+        return {name: rows[:, 2 * i:2 * i + 2] for i, name in enumerate(self.free)}
+
+    def evaluate(self, rows: np.ndarray) -> dict:
+        """The curve, the transmission and the length of the layouts ``rows`` (``(M, 2k)``) at every sample."""
+        rows = np.atleast_2d(np.asarray(rows, dtype=float))
+        coords = self.coordinates(rows)
+        directions = None
+        if self.slider:
+            p, q = coords[self.ends[0]], coords[self.ends[1]]
+            coords[self.slider] = q
+            directions = {self.slider: np.arctan2(q[:, 1] - p[:, 1], q[:, 0] - p[:, 0])}
+        prog = self.program
+        geom = prog.geometry(coords, directions)
+        q0 = np.broadcast_to(geom.drawn[self.fixed], (rows.shape[0], 1))
+        with np.errstate(all="ignore"):
+            pose = prog.poses(geom, q0 + self.ts[None, :], self.fixed)
+            shape = (rows.shape[0], self.ts.size)
+            ok = np.ones(shape, dtype=bool)
+            for index in pose.unassembled:
+                ok &= ~np.broadcast_to(pose.unassembled[index] | pose.undetermined[index], shape)
+            for sign in geom.sign.values():
+                ok &= ~np.broadcast_to(np.asarray(sign) == 0, (rows.shape[0], 1))
+            root = (np.min([np.broadcast_to(r, shape) for r in pose.root.values()], axis=0) if pose.root
+                    else np.ones(shape))
+            out = prog.outputs(geom, pose, prog.motion(geom, pose, 1))
+            rise = out[f"point:{self.task.point_name}.y'"]
+            length = None
+            if self.slider:
+                a, b = self.ends
+                d = (out[f"point:{a}.x"] - out[f"point:{b}.x"]) + 1j * (out[f"point:{a}.y"] - out[f"point:{b}.y"])
+                v = (out[f"point:{a}.x'"] - out[f"point:{b}.x'"]) + 1j * (out[f"point:{a}.y'"] - out[f"point:{b}.y'"])
+                length = np.abs(d)
+                rate = (d.real * v.real + d.imag * v.imag) / length
+            if self.task.quantity == "leverage":
+                ratio = -rate / rise                           # the motion ratio: shortening per rise
+                value = 1.0 / ratio
+                fit = ratio * self.wanted - 1.0
+            elif self.task.quantity == "length":
+                value = length
+                fit = (length - self.wanted) / max(np.ptp(self.wanted), 1e-3 * self.task.size)
+            else:
+                a = out[f"angle:{self.of_link}"]
+                value = np.degrees(a - a[:, :1])
+                fit = (value - self.wanted) / max(np.ptp(self.wanted), 1.0)
+        return {"ok": ok, "root": np.where(ok, root, 0.0), "value": value, "fit": fit, "length": length}
+
+    def residuals(self, rows: np.ndarray) -> np.ndarray:
+        """Least-squares residuals of each layout: the curve error and the penalties, ``(M, r)``."""
+        rows = np.atleast_2d(rows)
+        e = self.evaluate(rows)
+        fit = np.where(e["ok"], e["fit"], 1.0)
+        fit = np.where(np.isfinite(fit), fit, 1.0)
+        parts = [fit, PENALTY * np.maximum(0.0, math.sin(self.task.min_transmission + MARGIN) - e["root"])]
+        if e["length"] is not None and self.task.length_range:
+            lo, hi = self.task.length_range
+            lo, hi = lo + MARGIN * (hi - lo), hi - MARGIN * (hi - lo)
+            ln = np.where(e["ok"], e["length"], lo)
+            parts += [PENALTY * np.maximum(0.0, lo - ln) / lo, PENALTY * np.maximum(0.0, ln - hi) / hi]
+        parts.append(PENALTY * self._short(rows))
+        return np.hstack(parts)
+
+    def _short(self, rows) -> np.ndarray:
+        """Links shorter than 2% of the box, as penalties (joints of one link must stay apart)."""
+        coords = self.coordinates(rows)
+        coords[self.fixed] = np.broadcast_to(self.task.pivot, (rows.shape[0], 2))
+        gap = 0.02 * self.task.size
+        cols = []
+        for joints in self.links.values():
+            for i, a in enumerate(joints):
+                for b in joints[:i]:
+                    cols.append(np.maximum(0.0, gap - np.linalg.norm(coords[a] - coords[b], axis=1)) / gap)
+        return np.array(cols).T if cols else np.zeros((rows.shape[0], 0))
+
+    def mechanism(self, row: np.ndarray, name: str) -> Mechanism:
+        """The layout ``row`` as a mechanism file (drawn at the start of the stroke)."""
+        coords = {k: tuple(map(float, v[0])) for k, v in self.coordinates(np.atleast_2d(row)).items()}
+        data = self.template.to_dict()
+        data["name"] = name
+        for j in data["joints"]:
+            if j["name"] in coords:
+                j["at"] = list(coords[j["name"]])
+            if j["name"] == self.slider:
+                p, q = coords[self.ends[0]], coords[self.ends[1]]
+                j["at"], j["origin"] = list(q), list(q)
+                j["direction"] = math.degrees(math.atan2(q[1] - p[1], q[0] - p[0]))
+        return Mechanism.from_dict(data)
+
+
+def _one(chain, role: str) -> int:
+    links = chain.links_with_role(role)
+    if len(links) != 1:
+        raise InputError(f"the candidate needs one link with role {role!r}, found {len(links)}")
+    return links[0]
+
+
+def dimension(task: CurveTask, candidates, method: str = "exact", seeds: int = 64, seed: int = 0) -> Dimensioning:
+    """Dimension every ``(id, labelled chain)`` of ``candidates`` for ``task``; the verified layouts of each.
+
+    ``200 × seeds`` random layouts per candidate are screened by the kernel;
+    the best 12 (``method="exact"``) or 4 (``"fast"``) are polished by least
+    squares and verified by a continuation sweep.
+    """
+    if method not in ("exact", "fast"):
+        raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
+    started = time.perf_counter()
+    rng = np.random.default_rng(seed)
+    polish = 12 if method == "exact" else 4
+    out: list[Dimensioned] = []
+    notes = []
+    ids = []
+    for cid, chain in candidates:
+        ids.append(cid)
+        try:
+            model = Model(chain, task, f"{task.name}: candidate {cid}")
+        except InputError as exc:
+            notes.append(f"candidate {cid}: cannot carry the task: {exc}")
+            continue
+        found = _fit(model, rng, 200 * seeds, polish)
+        mine = [_verify(model, cid, row, f"{task.name}: candidate {cid}") for row in found]
+        mine.sort(key=lambda s: (not s.usable, s.error))
+        kept: list[Dimensioned] = []
+        for s in mine:                                  # one layout per distinct curve error
+            if not any(abs(s.error - k.error) <= 1e-6 * max(k.error, 1e-9) for k in kept):
+                kept.append(s)
+        out += kept[:3]
+        if not any(s.usable for s in kept):
+            notes.append(f"candidate {cid}: no verified layout in the box"
+                         + (f" (best error {100 * kept[0].error:.2g}%)" if kept else ""))
+    refused = [n for n in notes if "cannot carry" in n]
+    if ids and len(refused) == len(ids):
+        raise InputError(f"{task.name}: no candidate can carry the task: " + "; ".join(refused))
+    return Dimensioning(task.name, tuple(out), tuple(ids), 200 * seeds, polish, time.perf_counter() - started,
+                        tuple(notes))
+
+
+def _fit(model: Model, rng, screened: int, polish: int) -> list[np.ndarray]:
+    """Screen ``screened`` random layouts, polish the best ``polish`` by least squares."""
+    rows = model.random(rng, screened)
+    cost = np.sum(model.residuals(rows) ** 2, axis=1)
+    ok = model.evaluate(rows)["ok"].all(axis=1)
+    order = np.flatnonzero(ok)[np.argsort(cost[ok])][:polish]
+    lo, hi = model.bounds()
+    h = 1e-7 * model.task.size
+    results = []
+    for k in order:
+        def jac(p):
+            trial = np.vstack([p, p + h * np.eye(p.size)])
+            trial = np.clip(trial, lo, hi)
+            r = model.residuals(trial)
+            return ((r[1:] - r[0]) / (trial[1:] - trial[0]).sum(axis=1)[:, None]).T
+
+        fit = least_squares(lambda p: model.residuals(p)[0], rows[k], jac=jac, bounds=(lo, hi), x_scale="jac",
+                            max_nfev=200, xtol=1e-12, ftol=1e-12)
+        results.append(fit.x)
+    return results
+
+
+def _verify(model: Model, cid: int, row: np.ndarray, name: str) -> Dimensioned:
+    """Check a layout along the whole stroke by the continuation sweep (not the kernel that fitted it)."""
+    task = model.task
+    mech = model.mechanism(row, name)
+    e = model.evaluate(row)
+    defects = []
+    outputs = [f"point:{task.point_name}"] + ([f"point:{x}" for x in model.ends] if model.slider
+                                              else [f"angle:{model.of_link}"])
+    q0 = Kinematics(mech).drawn_inputs()[model.fixed]
+    sw = sweep(mech, q0, q0 + task.rotation, abs(task.rotation) / (4 * task.samples), outputs=outputs)
+    if sw.status != Status.COMPLETE or sw.dead_points:
+        where = f" at {math.degrees(sw.dead_points[0].input - q0):.2f}° of the stroke" if sw.dead_points else ""
+        defects.append(f"dead point: the mechanism does not move through the whole stroke{where}")
+    ok = bool(e["ok"].all())
+    if not ok:
+        defects.append("does not assemble over the whole stroke")
+    value = e["value"][0]
+    with np.errstate(all="ignore"):
+        rel = np.abs(value - model.wanted) / (np.abs(model.wanted) if task.quantity == "leverage"
+                                             else max(np.ptp(model.wanted), 1e-300))
+    error = float(np.max(rel)) if ok else math.inf
+    rms = float(np.sqrt(np.mean(rel ** 2))) if ok else math.inf
+    if not error <= task.tolerance:
+        defects.append(f"curve error {100 * error:.3g}% above the tolerance {100 * task.tolerance:.3g}%")
+    mu = math.degrees(math.asin(min(1.0, float(np.min(e["root"]))))) if ok else 0.0
+    if mu < math.degrees(task.min_transmission) - 1e-6:
+        defects.append(f"transmission angle {mu:.1f}° below {math.degrees(task.min_transmission):.0f}°")
+    length = None
+    if model.slider and ok:
+        length = (float(np.min(e["length"])), float(np.max(e["length"])))
+        if task.length_range and not (task.length_range[0] - 1e-9 <= length[0] and length[1] <= task.length_range[1] + 1e-9):
+            defects.append(f"length {length[0]:.4g} to {length[1]:.4g} outside {task.length_range[0]:.4g} to "
+                           f"{task.length_range[1]:.4g}")
+    notes = (f"sweep: {sw.inputs.size} steps, largest closure residual {float(np.max(sw.residuals)):.1e}",)
+    return Dimensioned(cid, mech, tuple(map(float, model.xs)), tuple(map(float, value)),
+                       tuple(map(float, model.wanted)), error, rms, mu, length, tuple(defects), notes)
