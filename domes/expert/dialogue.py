@@ -111,7 +111,8 @@ class Dialogue:
         if qid == "verify":
             kept = {c["id"]: LabelledChain.from_dict(c) for c in self.world.run_result.kept}
             return Question("verify", "Verify dimensions? (none; CANDIDATE FILE.json CHECK, CHECK is rotatability "
-                            "or range OUTPUT FROM:TO; or path POINTS.csv: which four-bar traces it?)",
+                            "or range OUTPUT FROM:TO; path POINTS.csv: which four-bar traces it?; or dimension CANDIDATE "
+                            "TASK.json: dimensions for a wanted curve)",
                             verify_parser(kept), "none", HELP["verify"])
         if qid == "relevance_overrides":
             ids = list(engine.attr("relevance_default").ids)

@@ -183,7 +183,9 @@ HELP = {
     "verify": "none, or a kept candidate, a dimensioned mechanism file of it and a check: 'rotatability' or 'range "
               "OUTPUT FROM:TO', e.g. 2 mechanisms/suzuki-rm250x.json range slide:g -10:10; or 'path FILE' with a "
               "wanted coupler path (points x, y, CSV or JSON): the four-bars that trace it, from the atlas of "
-              "coupler curves, refined and checked, drawn in FILE.matches.html (docs/curves.md).",
+              "coupler curves, refined and checked, drawn in FILE.matches.html (docs/curves.md); or 'dimension CANDIDATE "
+              "TASK.json': the kept candidate dimensioned by least squares for the task's wanted curve, verified, "
+              "drawn in TASK.candidate-N.html and kept with the case (docs/synthesis.md).",
 }
 
 
@@ -227,12 +229,19 @@ def mechanism_for(candidate: LabelledChain, path: str) -> Mechanism:
 
 
 def verify_parser(kept: dict[int, LabelledChain]):
-    """``none``, ``CANDIDATE FILE CHECK`` (see :mod:`domes.design.verify`), or ``path FILE`` (a wanted coupler path)."""
+    """``none``, ``CANDIDATE FILE CHECK`` (see :mod:`domes.design.verify`), ``path FILE`` (a wanted coupler path)
+    or ``dimension CANDIDATE TASK.json`` (dimension a kept candidate for a wanted curve)."""
 
     def parse(text: str):
         words = text.split()
         if not words or words == ["none"]:
             return None
+        if words[0] == "dimension":
+            if len(words) != 3 or not words[1].isdigit() or not Path(words[2]).is_file():
+                raise InputError("answer: dimension CANDIDATE TASK.json, with TASK.json a curve task file that exists")
+            if int(words[1]) not in kept:
+                raise InputError(f"candidate {words[1]} is not among those kept ({', '.join(map(str, sorted(kept)))})")
+            return ("dimension", int(words[1]), kept[int(words[1])], words[2])
         if words[0] == "path":
             if len(words) != 2 or not Path(words[1]).is_file():
                 raise InputError("answer: path FILE, with FILE a file of points x, y (CSV or JSON) that exists")

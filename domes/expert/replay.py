@@ -43,6 +43,11 @@ def frame_differences(recorded: dict, replayed: dict) -> list[str]:
                 if old != new:
                     out.append(f"  first difference: recorded {old}, now {new}")
                     break
+        elif key == "mechanisms" and isinstance(a, list) and isinstance(b, list):
+            # dimensions come from a seeded least-squares fit: the same candidates and tasks, verified, is a match
+            which = lambda rows: [(m.get("candidate"), m.get("task")) for m in rows]  # noqa: E731
+            if which(a) != which(b):
+                out.append(f"mechanisms: recorded {which(a)}, now {which(b)}")
         else:
             out.append(f"{key}: recorded {a!r}, now {b!r}")
     return out

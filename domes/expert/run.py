@@ -69,6 +69,8 @@ class DesignRun(Result):
     notes: tuple[str, ...]
     #: When every candidate is eliminated: (criterion, candidates kept without it), most first.
     relax: tuple[tuple[str, int], ...] = ()
+    #: Verified dimensioned mechanisms of kept candidates (``dimension`` answers), kept with the case.
+    mechanisms: tuple[dict, ...] = ()
 
     @property
     def status(self) -> Status:

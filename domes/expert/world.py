@@ -15,6 +15,7 @@ from typing import Callable
 
 from domes.design.verify import verify as verify_mechanism
 from domes.errors import DomesError
+from domes.expert.dimensions import dimension_candidate
 from domes.expert.facts import STRUCTURAL, Phase, Relation
 from domes.expert.paths import coupler_path_text
 from domes.expert.reasoner import recognise
@@ -107,6 +108,8 @@ class World:
             else:
                 if value[0] == "path":
                     self.match_path(value[1])
+                elif value[0] == "dimension":
+                    self.dimension(*value[1:])
                 else:
                     self.verify(*value)
                 engine.ask("verify")
@@ -235,6 +238,18 @@ class World:
         self.say(text)
         self.run_result = dataclasses.replace(self.run_result, notes=self.run_result.notes + (text,))
 
+    def dimension(self, candidate: int, chain, path: str) -> None:
+        """Dimension a kept candidate for the curve task in ``path``; the best verified layout joins the case."""
+        record = None
+        try:
+            text, record = dimension_candidate(candidate, chain, path)
+        except DomesError as exc:
+            text = f"candidate {candidate} could not be dimensioned for {path}: {exc}"
+        self.say(text)
+        self.run_result = dataclasses.replace(
+            self.run_result, notes=self.run_result.notes + (text.splitlines()[0],),
+            mechanisms=self.run_result.mechanisms + ((record,) if record else ()))
+
     def show_stored(self, case_id: str) -> None:
         frame = self.case(case_id)
         self.shown = frame
@@ -267,7 +282,7 @@ class World:
             while f"{base}-{number}" in ids:
                 number += 1
             frame = dataclasses.replace(
-                run.problem, id=f"{base}-{number}", relevance=vector, results=run.kept, rejected=run.rejected,
+                run.problem, id=f"{base}-{number}", relevance=vector, results=run.kept, rejected=run.rejected, mechanisms=run.mechanisms,
                 notes=run.notes, criteria_added=tuple(self.added), source="design session",
                 date=_dt.date.today().isoformat(), title=engine.attr("class") or "",
             )

@@ -29,7 +29,7 @@ from domes.language.parse import normalise_name
 #: Structural attributes (Table 7-1 slots 3-10), all whole numbers.
 STRUCTURAL = ("outputs", "dof", "space", "loops", "gear_pairs", "slider_pairs", "links", "joints")
 _FIELDS = ("id", "title", "problem_class", *STRUCTURAL, "names", "scene", "relevance", "results", "rejected",
-           "notes", "criteria_added", "source", "date")
+           "notes", "criteria_added", "source", "date", "mechanisms")
 
 
 @dataclass(frozen=True)
@@ -56,6 +56,8 @@ class ProblemFrame:
     criteria_added: tuple[str, ...] = ()
     source: str = ""
     date: str = ""
+    #: Verified dimensioned mechanisms of kept candidates: ``{"candidate", "task", "error", "mechanism"}``.
+    mechanisms: tuple[dict, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "problem_class", normalise_name(self.problem_class))
@@ -104,7 +106,7 @@ class ProblemFrame:
             if isinstance(value, str) or not all(isinstance(x, str) for x in value):
                 raise InputError(f"{where}.{key}: expected a list of text")
             kwargs[key] = frozenset(value) if key == "names" else tuple(value)
-        for key in ("results", "rejected"):
+        for key in ("results", "rejected", "mechanisms"):
             value = data.get(key, [])
             if not isinstance(value, list) or not all(isinstance(x, dict) for x in value):
                 raise InputError(f"{where}.{key}: expected a list of objects")
@@ -131,4 +133,6 @@ class ProblemFrame:
         out["criteria_added"] = list(self.criteria_added)
         out["source"] = self.source
         out["date"] = self.date
+        if self.mechanisms:
+            out["mechanisms"] = [dict(m) for m in self.mechanisms]
         return out

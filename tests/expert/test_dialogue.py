@@ -255,3 +255,22 @@ def test_a_wanted_coupler_path_is_answered_with_four_bars_that_trace_it(casebase
     page = Path(str(wanted) + ".matches.html")
     assert page.is_file() and "<svg" in page.read_text()
     assert (tmp_path / "home" / "atlas").is_dir()
+
+
+def test_a_kept_candidate_is_dimensioned_for_a_task_and_kept_with_the_case(casebase, tmp_path):
+    # Issue 13: after screening, the designer dimensions kept candidate 3 of the motorcycle design for the
+    # rising-rate task; the verified layout is kept with the retained case, its drawing beside the task.
+    task = tmp_path / "rising-rate.json"
+    task.write_text((ROOT / "examples" / "synthesis" / "rising-rate.json").read_text())
+    text = MOTORCYCLE.replace("class: motorcycle rear suspension\n", "class: rising-rate suspension\n").replace(
+        "verify: none\n", f"verify: dimension 9 {task}\nverify: dimension 3 {task}\nverify: none\n")
+    outcome, said = run(casebase, text)
+    rejected = [e["rejected"] for e in outcome.exchanges if "rejected" in e]
+    assert len(rejected) == 1 and "not among those kept" in rejected[0]
+    assert f"dimensioned candidate 3 for {task}: " in said
+    (record,) = outcome.frame.mechanisms
+    assert record["candidate"] == 3 and record["error"] < 0.02
+    with KnowledgeBase(casebase) as kb:
+        stored = kb.get_problem(outcome.frame.id)
+    assert stored.mechanisms[0]["mechanism"] == record["mechanism"]
+    assert (tmp_path / "rising-rate.candidate-3.html").is_file()
