@@ -18,6 +18,7 @@ import math
 from domes.cli.common import write_output
 from domes.design.synthesis import synthesize
 from domes.design.synthesis.candidate import Dimensioning
+from domes.design.synthesis.fourbars import SliderCrank
 from domes.design.synthesis.solve import generator_fourbar
 from domes.io.files import check_target
 from domes.io.tasks import load_task
@@ -65,7 +66,7 @@ def run(args) -> int:
 
 def _solution_dict(s, name):
     out = {"mechanism": s.fourbar.mechanism(name).to_dict(), "usable": s.usable, "defects": list(s.defects),
-           "lengths": dict(zip(("crank", "coupler", "rocker", "frame"), s.fourbar.lengths)),
+           "lengths": s.fourbar.named_lengths(),
            "residuals": list(s.residuals), "grashof": s.checks.grashof, "crank_rotates": s.checks.crank_rotates,
            "min_transmission_deg": s.checks.min_transmission_deg,
            "crank_angles_deg": list(s.checks.crank_angles_deg), "notes": list(s.notes)}
@@ -100,12 +101,15 @@ def _text(result, everything: bool) -> str:
     lines = [f"# {result.message}"] + [f"# {n}" for n in result.notes]
     shown = result.solutions if everything else result.usable
     for k, s in enumerate(shown, 1):
-        a, b, c, d = s.fourbar.lengths
+        fb = s.fourbar
         state = "usable" if s.usable else "rejected: " + "; ".join(s.defects)
-        lines.append(f"{k}. {state}; crank {a:.6g}, coupler {b:.6g}, rocker {c:.6g}, frame {d:.6g}; "
-                     f"{s.checks.grashof}; smallest transmission angle {s.checks.min_transmission_deg:.1f}°")
-        lines.append(f"   pivots A {_fmt(s.fourbar.a0)}, D {_fmt(s.fourbar.b0)}; moving pivots B {_fmt(s.fourbar.a1)}, "
-                     f"C {_fmt(s.fourbar.b1)}; largest residual {s.residual:.1e}")
+        sizes = ", ".join(f"{name} {v:.6g}" for name, v in fb.named_lengths().items())
+        lines.append(f"{k}. {state}; {sizes}; {s.checks.grashof}; smallest transmission angle "
+                     f"{s.checks.min_transmission_deg:.1f}°")
+        fixed = (f"slide through C at {math.degrees(fb.direction):.6g}°" if isinstance(fb, SliderCrank)
+                 else f"D {_fmt(fb.b0)}")
+        lines.append(f"   pivots A {_fmt(fb.a0)}, {fixed}; moving pivots B {_fmt(fb.a1)}, C {_fmt(fb.b1)}; "
+                     f"largest residual {s.residual:.1e}")
         for note in s.notes:
             lines.append(f"   {note}")
         if s.respaced is not None:

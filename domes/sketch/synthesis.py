@@ -36,8 +36,9 @@ def precision_svg(solution, marks: Sequence = (), arrows: Sequence = (), size: f
     """A synthesised four-bar at each precision position, over ``marks`` (points) and ``arrows`` (point, angle)."""
     fb = solution.fourbar
     poses = solution.poses or ((fb.a1, fb.b1),)
-    body = [m for m in marks]
-    pts = [fb.a0, fb.b0] + [p for pose in poses for p in pose] + list(body) + [a[0] for a in arrows]
+    body = list(marks)
+    b0 = getattr(fb, "b0", None)                  # None: a slider-crank, its slide drawn through the pin's positions
+    pts = [fb.a0] + ([b0] if b0 else []) + [p for pose in poses for p in pose] + body + [a[0] for a in arrows]
     frame = Frame.fit(pts, size, 24.0)
     reach = 0.08 * max(np.ptp(np.array(pts), axis=0).max(), 1e-12)
     items = []
@@ -49,11 +50,21 @@ def precision_svg(solution, marks: Sequence = (), arrows: Sequence = (), size: f
         items.append(tag("g", {"class": "pose", "data-position": str(k + 1)}, [
             tag("polyline", {"class": "crank", "points": points([frame(fb.a0), frame(a)]), **style}),
             tag("polygon", {"class": "coupler", "points": points(frame(p) for p in coupler), **style}),
-            tag("polyline", {"class": "rocker", "points": points([frame(b), frame(fb.b0)]), **style}),
+            tag("polyline", {"class": "rocker", "points": points([frame(b), frame(b0)]), **style}) if b0 else
+            tag("rect", {"class": "slider", "x": num(frame(b)[0] - 5), "y": num(frame(b)[1] - 4), "width": "10",
+                         "height": "8", **style}),
             tag("text", {"x": num(frame(a)[0] + 4), "y": num(frame(a)[1] - 4), "font-size": "9", "fill": INK,
                          "opacity": opacity}, text=str(k + 1)),
         ]))
-    for p in (fb.a0, fb.b0):
+    if b0 is None:
+        ends = sorted((pose[1] for pose in poses), key=lambda q: q[0] * math.cos(fb.direction)
+                      + q[1] * math.sin(fb.direction))
+        u = (math.cos(fb.direction), math.sin(fb.direction))
+        (x1, y1), (x2, y2) = (frame((q[0] + k * reach * u[0], q[1] + k * reach * u[1]))
+                              for q, k in ((ends[0], -1), (ends[-1], 1)))
+        items.append(tag("line", {"class": "slide", "x1": num(x1), "y1": num(y1), "x2": num(x2), "y2": num(y2),
+                                  "stroke": INK, "stroke-dasharray": "6 3"}))
+    for p in (fb.a0, b0) if b0 else (fb.a0,):
         x, y = frame(p)
         items.append(tag("path", {"class": "ground-pivot", "d": f"M{num(x - 7)},{num(y + 9)} L{num(x)},{num(y)} "
                                   f"L{num(x + 7)},{num(y + 9)} Z", "fill": "#e9ecef", "stroke": INK}))
@@ -121,12 +132,11 @@ def synthesis_html(result, task) -> str:
 
 
 def _fourbar_card(k, s, marks, arrows) -> Card:
-    a, b, c, d = s.fourbar.lengths
     svg = precision_svg(s, marks, arrows)
     if s.structural is not None and np.isfinite(s.structural.error).any():
         svg += "\n" + curve_svg(s.structural.x, [("structural error", np.degrees(s.structural.error), "#c1121f",
                                                   False)], "x", "error (° of rocker rotation)")
-    props = [("lengths", f"crank {a:.6g}, coupler {b:.6g}, rocker {c:.6g}, frame {d:.6g}"),
+    props = [("lengths", ", ".join(f"{name} {v:.6g}" for name, v in s.fourbar.named_lengths().items())),
              ("Grashof", s.checks.grashof), ("transmission", f"{s.checks.min_transmission_deg:.1f}° smallest"),
              ("residual", f"{s.residual:.1e}")]
     props += [("defect", x) for x in s.defects]

@@ -183,8 +183,10 @@ def test_guidance_solutions_are_mechanisms_the_backend_moves_through_the_positio
     # through the crank angle of each position in turn: the coupler point reaches every precision point.
     positions = EXAMPLE_2 + [gd.Position((1.5, 1.9), math.radians(120))]
     checked = 0
-    for data in ({"circle_x": [-1, 0]}, {"circle_x": [-1, 3]}, {}):
-        pos = positions if not data else EXAMPLE_2
+    for data in ({"circle_x": [-1, 0]}, {"circle_x": [-1, 3]}, {}, {"circle_x": [0], "slider": True},
+                 {"circle_points": [[0.5, -1.5]], "slider_directions_deg": [-30]}):
+        pos = (positions if not data else [EXAMPLE_2[k] for k in (0, 2, 3)] if "slider_directions_deg" in data
+               else EXAMPLE_2)
         path = tmp_path / "t.json"
         path.write_text(json.dumps({"kind": "guidance", "positions": [
             {"point": list(p.point), "angle_deg": math.degrees(p.angle)} for p in pos], **data}))
@@ -202,9 +204,48 @@ def test_guidance_solutions_are_mechanisms_the_backend_moves_through_the_positio
     assert checked >= 1
 
 
+def _slider_crank_positions(rng, count):
+    """``count`` positions of the coupler of a random offset slider-crank (slide along x), and its pins."""
+    r, length, e = 1.0, rng.uniform(2, 4), rng.uniform(-0.8, 0.8)
+    body = rng.uniform(-2, 2, 2)
+    out, pins = [], []
+    for t in np.sort(rng.uniform(0, 2 * np.pi, count)):
+        a = np.array([r * np.cos(t), r * np.sin(t)])
+        c = np.array([a[0] + np.sqrt(length ** 2 - (e - a[1]) ** 2), e])
+        ang = math.atan2(c[1] - a[1], c[0] - a[0])
+        out.append(gd.Position(tuple(a + np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]])
+                                     @ body), ang))
+        pins.append((a, c))
+    return out, pins
+
+
+def test_slider_dyads_of_a_planted_slider_crank():
+    # A slider is a crank with its centre point at infinity (digest A.3.1): for 3 positions one per slide
+    # direction, for 4 the one point besides the pole P12, for 5 that point when the fifth is on the line.
+    # Positions of a random slider-crank's coupler give back its slider pin, and five give the whole linkage.
+    from domes.design.synthesis import sliders as sl
+    from domes.design.synthesis.task import GuidanceTask
+
+    rng = np.random.default_rng(7)
+    found = whole = 0
+    for _ in range(50):
+        pos, pins = _slider_crank_positions(rng, 5)
+        c1 = pins[0][1]
+        assert math.dist(sl.slider_for_direction(pos[:3], 0.0).a1, c1) < 1e-9
+        four = sl.slider_points(pos[:4])
+        found += any(math.dist(s.a1, c1) < 1e-8 and abs(math.sin(s.direction)) < 1e-9 for s in four)
+        result = synthesize(GuidanceTask(tuple(pos), slider=True))
+        whole += any(getattr(s.fourbar, "direction", None) is not None and math.dist(s.fourbar.b1, c1) < 1e-7
+                     and math.dist(s.fourbar.a0, (0, 0)) < 1e-7 for s in result.solutions)
+    assert found == 50 and whole >= 49
+
+
 @pytest.mark.parametrize("data, message", [
     ({"kind": "guidance", "positions": [{"point": [0, 0], "angle_deg": 0}] * 3, "circle_points": [[0, 1], [1, 1]]},
      "coincide"),
+    ({"kind": "guidance", "positions": [{"point": [0, 0], "angle_deg": 0}, {"point": [1, 0], "angle_deg": 10},
+                                        {"point": [2, 1], "angle_deg": 30}], "slider_directions_deg": [0, 10]},
+     "double slider"),
     ({"kind": "guidance", "positions": [{"point": [i, 0], "angle_deg": i} for i in range(6)]}, "2 to 5 positions"),
     ({"kind": "function", "function": "log10(x)", "range": [-1, 10], "input_deg": 60, "output_deg": 90,
       "start_deg": [10, 20]}, "not defined at x = -1"),

@@ -50,6 +50,9 @@ class FourBar:
         return (math.dist(self.a0, self.a1), math.dist(self.a1, self.b1), math.dist(self.b1, self.b0),
                 math.dist(self.a0, self.b0))
 
+    def named_lengths(self) -> dict[str, float]:
+        return dict(zip(("crank", "coupler", "rocker", "frame"), self.lengths))
+
     def mechanism(self, name: str = "synthesised four-bar") -> Mechanism:
         """The linkage in the kinematics file format, drawn at the first precision position; input at ``A``."""
         points = [CouplerPoint("P", "coupler", tuple(self.point))] if self.point is not None else []
@@ -58,6 +61,85 @@ class FourBar:
             [Joint("A", "R", ("frame", "crank"), _pt(self.a0)), Joint("B", "R", ("crank", "coupler"), _pt(self.a1)),
              Joint("C", "R", ("coupler", "rocker"), _pt(self.b1)), Joint("D", "R", ("rocker", "frame"), _pt(self.b0))],
             [Input("A")], points=points)
+
+
+@dataclass(frozen=True)
+class SliderCrank:
+    """A crank ``a0``-``a1`` and a slider pin ``b1`` on a slide of ``direction`` (rad), in the first position."""
+
+    a0: tuple[float, float]
+    a1: tuple[float, float]
+    b1: tuple[float, float]
+    direction: float
+    point: tuple[float, float] | None = None
+
+    def __post_init__(self):
+        for name in ("a0", "a1", "b1", "point"):
+            value = getattr(self, name)
+            if value is not None:
+                object.__setattr__(self, name, _pt(value))
+
+    @property
+    def offset(self) -> float:
+        """The signed distance of the crank pivot from the slide (left of its direction positive)."""
+        u = (math.cos(self.direction), math.sin(self.direction))
+        return _cross(u, np.subtract(self.a0, self.b1))
+
+    @property
+    def lengths(self) -> tuple[float, float, float]:
+        """Crank ``|a1 − a0|``, coupler ``|b1 − a1|`` and the offset's size."""
+        return math.dist(self.a0, self.a1), math.dist(self.a1, self.b1), abs(self.offset)
+
+    def named_lengths(self) -> dict[str, float]:
+        return dict(zip(("crank", "coupler", "offset"), self.lengths))
+
+    def mechanism(self, name: str = "synthesised slider-crank") -> Mechanism:
+        """The linkage in the kinematics file format, drawn at the first precision position; input at ``A``."""
+        points = [CouplerPoint("P", "coupler", tuple(self.point))] if self.point is not None else []
+        return Mechanism.build(
+            name, ["frame", "crank", "coupler", "slider"], "frame",
+            [Joint("A", "R", ("frame", "crank"), self.a0), Joint("B", "R", ("crank", "coupler"), self.a1),
+             Joint("C", "R", ("coupler", "slider"), self.b1),
+             Joint("D", "P", ("frame", "slider"), self.b1, float(self.direction))],
+            [Input("A")], points=points)
+
+
+def check_slider(sc: SliderCrank, positions_a, positions_b) -> Checks:
+    """Check a slider-crank whose pins are at ``positions_a[j]`` (crank) and ``positions_b[j]`` (slider)."""
+    a0 = np.asarray(sc.a0, float)
+    A, B = np.asarray(positions_a, float), np.asarray(positions_b, float)
+    r, length, e = sc.lengths
+    u = np.array([math.cos(sc.direction), math.sin(sc.direction)])
+    turns = r + e <= length
+    kind = "crank turns fully (r + |e| ≤ L)" if turns else "crank oscillates (r + |e| > L)"
+    defects = []
+    if min(r, length) <= 1e-9 * max(r, length):
+        defects.append("a link of zero length")
+    modes = [np.sign(np.dot(B[j] - A[j], u)) for j in range(len(A))]
+    if len({m for m in modes if m != 0}) > 1:
+        defects.append("branch defect: the precision positions lie on both assembly modes")
+
+    def dead(angles):
+        n = np.array([-u[1], u[0]])
+        for j in range(len(angles) - 1):
+            th = np.linspace(angles[j], angles[j + 1], 721)
+            pins = a0 + r * np.c_[np.cos(th), np.sin(th)]
+            bad = np.abs((pins - B[0]) @ n) > length
+            if bad.any():
+                return j + 1, float(math.degrees(th[int(np.argmax(bad))]))
+        return None
+
+    angles, stuck = _crank_order(A, a0, dead)
+    if angles is None:
+        angles = np.array([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
+        defects.append("order defect: the crank does not reach the positions in order within one turn either way")
+    elif stuck is not None:
+        defects.append(f"dead point: the crank cannot turn from position {stuck[0]} to {stuck[0] + 1} (the coupler "
+                       f"does not reach the slide near crank angle {stuck[1]:.1f}°)")
+    mu = [math.degrees(math.acos(min(1.0, abs(float(np.dot(B[j] - A[j], u))) / max(length, 1e-300))))
+          for j in range(len(A))]                        # the coupler's angle with the slide: 0 best
+    return Checks(kind, turns, 90.0 - max(mu) if mu else float("nan"),
+                  tuple(float(math.degrees(x)) for x in angles), tuple(defects))
 
 
 def _pt(p) -> tuple[float, float]:
@@ -107,22 +189,13 @@ def check(fb: FourBar, positions_a, positions_b) -> Checks:
     modes = [np.sign(_cross(B[j] - A[j], b0 - B[j])) for j in range(len(A))]
     if len({m for m in modes if m != 0}) > 1:
         defects.append("branch defect: the precision positions lie on both assembly modes")
-    raw = np.array([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
-    angles = None
-    for direction in (1.0, -1.0):           # the crank turning one way reaches the positions in order, within a turn
-        steps = np.mod(direction * np.diff(raw), 2 * math.pi)
-        if steps.sum() < 2 * math.pi:
-            path = raw[0] + direction * np.concatenate(([0.0], np.cumsum(steps)))
-            if angles is None or abs(path[-1] - path[0]) < abs(angles[-1] - angles[0]):
-                angles = path
+    angles, stuck = _crank_order(A, a0, lambda th: _dead_between(fb, th))
     if angles is None:
-        angles = raw
+        angles = np.array([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
         defects.append("order defect: the crank does not reach the positions in order within one turn either way")
-    else:
-        stuck = _dead_between(fb, angles)
-        if stuck is not None:
-            defects.append(f"dead point: the crank cannot turn from position {stuck[0]} to {stuck[0] + 1} (the loop "
-                           f"does not close near crank angle {stuck[1]:.1f}°)")
+    elif stuck is not None:
+        defects.append(f"dead point: the crank cannot turn from position {stuck[0]} to {stuck[0] + 1} (the loop "
+                       f"does not close near crank angle {stuck[1]:.1f}°)")
     mu = []
     for j in range(len(A)):
         u, v = A[j] - B[j], b0 - B[j]
@@ -131,6 +204,20 @@ def check(fb: FourBar, positions_a, positions_b) -> Checks:
         mu.append(min(ang, 180 - ang))
     return Checks(kind, turns, min(mu) if mu else float("nan"), tuple(float(math.degrees(x)) for x in angles),
                   tuple(defects))
+
+
+def _crank_order(A, a0, dead):
+    """The crank's angles at the positions ``A`` turning one way, within one turn (the shorter way when both
+    do), and where it first gets stuck between two (``dead(angles)``); ``(None, None)`` on an order defect."""
+    raw = np.array([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
+    angles = None
+    for direction in (1.0, -1.0):
+        steps = np.mod(direction * np.diff(raw), 2 * math.pi)
+        if steps.sum() < 2 * math.pi:
+            path = raw[0] + direction * np.concatenate(([0.0], np.cumsum(steps)))
+            if angles is None or abs(path[-1] - path[0]) < abs(angles[-1] - angles[0]):
+                angles = path
+    return (None, None) if angles is None else (angles, dead(angles))
 
 
 def _dead_between(fb: FourBar, angles) -> tuple[int, float] | None:

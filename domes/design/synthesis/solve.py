@@ -28,9 +28,10 @@ import numpy as np
 from domes.design.synthesis import function as fn
 from domes.design.synthesis import guidance as gd
 from domes.design.synthesis import path as pt
+from domes.design.synthesis import sliders as sl
 from domes.design.synthesis.candidate import CurveTask, Dimensioning, dimension
 from domes.design.synthesis.displacement import moved, rotation_about
-from domes.design.synthesis.fourbars import Checks, FourBar, check
+from domes.design.synthesis.fourbars import Checks, FourBar, SliderCrank, check, check_slider
 from domes.design.synthesis.task import GuidanceTask, PathTask, RotationTask
 from domes.errors import InputError
 from domes.results import Listing, Status
@@ -40,7 +41,7 @@ from domes.results import Listing, Status
 class Solution:
     """A synthesised four-bar, its checks, and its residual at every precision position (in length units)."""
 
-    fourbar: FourBar
+    fourbar: FourBar | SliderCrank
     checks: Checks
     residuals: tuple[float, ...]
     notes: tuple[str, ...] = ()
@@ -137,29 +138,46 @@ def _score(s: Solution):
 def _guidance(task: GuidanceTask, method: str = "exact", seeds: int = 64):
     positions = list(task.positions)
     n = len(positions)
+    notes = []
     if n == 3:
         dyads = [gd.dyad(positions, a1) for a1 in task.circle_points]
         dyads += [gd.dyad(positions, gd.circle_point(positions, a0)) for a0 in task.centre_points]
+        dyads += [sl.slider_for_direction(positions, angle) for angle in task.slider_directions]
         groups = [[d] for d in dyads]
     elif n == 4:
         groups = [gd.circle_point_curve(positions, [x]) for x in task.circle_x]
     else:
         found = gd.burmester_points(positions, method=method, seeds=seeds)
         groups = [[d] for d in found]
-    notes = []
-    if n == 5:
         notes.append(f"{len(groups)} real Burmester point(s)")
+    if task.slider and n > 3:
+        sliders = sl.slider_points(positions)
+        groups.append(sliders)
+        notes.append(f"{len(sliders)} slider point(s)" + ("" if sliders or n == 4 else
+                                                           ": five positions in general have none"))
     roots = sum(len(g) for g in groups)
-    sols = []
     Ds = gd.displacements(positions)
     if n == 5:
-        pairs = [(groups[i][0], groups[j][0]) for i in range(len(groups)) for j in range(i + 1, len(groups))]
+        cranks = [g[0] for g in groups[:len(groups) - task.slider]]
+        pairs = [(cranks[i], cranks[j]) for i in range(len(cranks)) for j in range(i + 1, len(cranks))]
+        if task.slider:
+            pairs += [(c, s) for c in cranks for s in groups[-1]]
     else:
         pairs = [(p, q) for p in groups[0] for q in groups[1]] if len(groups) == 2 else []
+    sols = []
     for a, b in pairs:
-        fb = FourBar(a.a0, a.a1, b.a1, b.a0, positions[0].point)
+        if isinstance(a, sl.SliderDyad):
+            a, b = b, a
         A = [moved(D, a.a1) for D in Ds]
         B = [moved(D, b.a1) for D in Ds]
+        if isinstance(b, sl.SliderDyad):
+            sc = SliderCrank(a.a0, a.a1, b.a1, b.direction, positions[0].point)
+            n_ = np.array([-math.sin(b.direction), math.cos(b.direction)])
+            res = tuple(max(abs(np.linalg.norm(A[j] - a.a0) - a.radius), abs(float(n_ @ (B[j] - B[0]))))
+                        for j in range(n))
+            sols.append(Solution(sc, check_slider(sc, A, B), res, poses=_poses(A, B)))
+            continue
+        fb = FourBar(a.a0, a.a1, b.a1, b.a0, positions[0].point)
         res = tuple(max(abs(np.linalg.norm(A[j] - a.a0) - a.radius), abs(np.linalg.norm(B[j] - b.a0) - b.radius))
                     for j in range(n))
         sols.append(Solution(fb, check(fb, A, B), res, poses=_poses(A, B)))

@@ -8,7 +8,10 @@ which one is wrong. Kinds:
   ``angle_deg``), 3 to 5; with 3 positions the free choices are the two
   ``circle_points`` (moving pivots in position 1) or ``centre_points``
   (fixed pivots); with 4 the abscissas ``circle_x`` of the circle points
-  (each gives up to three cranks); with 5 none (Burmester points).
+  (each gives up to three cranks); with 5 none (Burmester points). A slider
+  (a circle point at infinity) replaces a crank: with 3 positions by its
+  direction ``slider_directions_deg``; with 4 or 5 ``"slider": true`` adds
+  the slider the positions determine.
 - ``function``: ``y = f(x)`` (``function``, an expression in ``x``) over
   ``range``, the crank's and the rocker's rotations ``input_deg`` and
   ``output_deg``, ``points`` (a count: Chebyshev spacing; or the list), the
@@ -55,6 +58,8 @@ class GuidanceTask:
     centre_points: tuple[tuple[float, float], ...] = ()
     circle_x: tuple[float, ...] = ()
     name: str = "guidance"
+    slider_directions: tuple[float, ...] = ()
+    slider: bool = False
 
 
 @dataclass(frozen=True)
@@ -107,16 +112,30 @@ def task_from_dict(data: dict, where: str = "task"):
             positions.append(Position(_pair(p.get("point"), f"{where}: position {j} point"),
                                       math.radians(_number(p, "angle_deg", f"{where}: position {j}"))))
         check_positions(positions)
+        slider = data.get("slider", False)
+        if not isinstance(slider, bool):
+            raise InputError(f"{where}: 'slider' must be true or false")
         t = GuidanceTask(tuple(positions), tuple(_pair(v, f"{where}: circle_points") for v in data.get("circle_points", [])),
                          tuple(_pair(v, f"{where}: centre_points") for v in data.get("centre_points", [])),
-                         tuple(_number({"x": v}, "x", f"{where}: circle_x") for v in data.get("circle_x", [])), name)
+                         tuple(_number({"x": v}, "x", f"{where}: circle_x") for v in data.get("circle_x", [])), name,
+                         tuple(math.radians(_number({"a": v}, "a", f"{where}: slider_directions_deg"))
+                               for v in data.get("slider_directions_deg", [])), slider)
         n = len(positions)
-        if n == 3 and len(t.circle_points) + len(t.centre_points) != 2:
+        if n == 3 and len(t.circle_points) + len(t.centre_points) + len(t.slider_directions) != 2:
             raise InputError(f"{where}: three positions leave each crank one free pivot: give two 'circle_points' "
-                             "or two 'centre_points' (or one of each)")
-        if n == 4 and len(t.circle_x) != 2:
+                             "or two 'centre_points' (or one of each), or one of them and one slide direction "
+                             "'slider_directions_deg'")
+        if n == 3 and len(t.slider_directions) > 1:
+            raise InputError(f"{where}: two sliders make a double slider; give one crank and one slider")
+        if n != 3 and t.slider_directions:
+            raise InputError(f"{where}: 'slider_directions_deg' is a free choice of three positions; with {n}, "
+                             "'slider': true adds the slider the positions determine")
+        if n == 3 and slider:
+            raise InputError(f"{where}: with three positions choose the slider by its direction "
+                             "('slider_directions_deg'), not 'slider': true")
+        if n == 4 and len(t.circle_x) + slider != 2:
             raise InputError(f"{where}: four positions leave each crank one free coordinate: give 'circle_x', the "
-                             "abscissas of the two circle points")
+                             "abscissas of the two circle points (or one, with 'slider': true)")
         if n == 5 and (t.circle_points or t.centre_points or t.circle_x):
             raise InputError(f"{where}: five positions leave no free choice: remove circle_points, centre_points "
                              "and circle_x")
