@@ -254,7 +254,12 @@ def test_slider_dyads_of_a_planted_slider_crank():
      "3 to 5 precision points"),
     ({"kind": "function", "function": "x", "range": [1, 10], "input_deg": 60, "output_deg": 90, "points": 4,
       "start_deg": [10, 20]}, "input start angle θ0 only"),
-    ({"kind": "path", "points": [[0, 0]] * 4, "a0": [0, 0], "b0": [1, 0]}, "five path points"),
+    ({"kind": "path", "points": [[0, 0]] * 2, "a0": [0, 0], "b0": [1, 0]}, "3 to 100 path points"),
+    ({"kind": "path", "points": [[0, 0], [1, 0], [2, 1], [3, 1], [2, 2], [1, 3]], "a0": [0, 0]},
+     "6 path points leave 3 free choices"),
+    ({"kind": "path", "points": [[0, 0], [1, 0], [2, 1], [3, 1]], "a0": [0, 0], "given": {"c0x": 1}},
+     "not a pivot coordinate"),
+    ({"kind": "path", "points": [[0, 0], [1, 0], [2, 1], [3, 1]], "crank_deg": [10, 20]}, "3 numbers"),
     ({"kind": "path", "points": [[0, 0], [1, 0], [1, 0], [2, 1], [3, 1]], "a0": [0, 0], "b0": [1, 0]}, "coincide"),
     ({"kind": "gears"}, "'kind' must be"),
 ])
@@ -349,3 +354,74 @@ def test_the_fast_method_finds_a_subset_of_the_exact_roots():
     assert "random starts" in fast.notes[0]
     with pytest.raises(InputError, match="method must be"):
         synthesize(task, "guess")
+
+
+def _planted_path(rng, n):
+    """``n`` points of the coupler curve of a random crank-rocker, with its pivots and the crank angles."""
+    a0 = rng.uniform(-1, 1, 2)
+    b0 = a0 + np.array([3.0, 0.0]) + rng.uniform(-0.5, 0.5, 2)
+    b, c = rng.uniform(2.8, 3.5), rng.uniform(2.5, 3.2)
+    body = rng.uniform(-1.5, 1.5, 2)
+    ths = np.linspace(0, 2 * np.pi, n, endpoint=False) + rng.uniform(0, 0.3)
+    P, A, B = [], [], []
+    for t in ths:
+        a = a0 + np.array([np.cos(t), np.sin(t)])
+        d = np.linalg.norm(b0 - a)
+        ang = math.atan2(*(b0 - a)[::-1]) + math.acos((d * d + b * b - c * c) / (2 * d * b))
+        P.append(a + np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]]) @ body)
+        A.append(a)
+        B.append(a + b * np.array([math.cos(ang), math.sin(ang)]))
+    return np.array(P), a0, b0, A, B, ths
+
+
+@pytest.mark.parametrize("n, keys", [(4, ("a0x", "a0y", "a1x", "a1y", "b0x")), (5, ("a0x", "a0y", "b0x", "b1y")),
+                                     (6, ("a0x", "a0y", "b0x"))])
+def test_table_2_1_free_choices_recover_a_planted_four_bar(n, keys):
+    # Table 2-1 (digest A.3.5): n points leave 9 - n free choices; fixed to a planted crank-rocker's values, the
+    # roots found include it, and every root meets all 2(n - 1) equations.
+    from domes.design.synthesis.pathfit import fit
+
+    rng = np.random.default_rng(n)
+    hits = 0
+    for _ in range(4):
+        P, a0, b0, A, B, _ = _planted_path(rng, n)
+        values = {"a0x": a0[0], "a0y": a0[1], "b0x": b0[0], "b0y": b0[1], "a1x": A[0][0], "a1y": A[0][1],
+                  "b1x": B[0][0], "b1y": B[0][1]}
+        sols = fit(P, {k: values[k] for k in keys}, starts=2048)
+        assert sols and all(s.residual < 1e-9 * 4 for s in sols)
+        hits += any(math.dist(s.a1, A[0]) < 1e-6 and math.dist(s.b1, B[0]) < 1e-6 for s in sols)
+    assert hits >= 3
+
+
+def test_prescribed_input_angles_and_least_squares_path():
+    # Prescribed timing: five points and the crank's four rotations (12 equations, 12 unknowns, nothing given)
+    # give back the planted linkage. Twelve points with a0 given (22 equations, 17 unknowns) are a least-squares
+    # problem: points on the planted curve are met (distance 1e-9 along the traced curve), and points moved by
+    # 1e-3 leave distances of that order, reported per point.
+    rng = np.random.default_rng(11)
+    P, a0, b0, A, B, ths = _planted_path(rng, 5)
+    data = {"kind": "path", "points": P.tolist(), "crank_deg": np.degrees(ths[1:] - ths[0]).tolist()}
+    result = synthesize(task_from_dict(data), "fast", 64)
+    assert any(math.dist(s.fourbar.a1, A[0]) < 1e-6 and math.dist(s.fourbar.b0, b0) < 1e-6 for s in result.solutions)
+    P, a0, b0, *_ = _planted_path(rng, 12)
+    for noise, bound in ((0.0, 1e-7), (1e-3, 1e-2)):
+        moved_points = P + rng.normal(0, noise, P.shape)
+        result = synthesize(task_from_dict({"kind": "path", "points": moved_points.tolist(), "a0": a0.tolist()}))
+        best = result.solutions[0] if result.solutions[0].usable else result.usable[0]
+        assert len(best.residuals) == 12 and max(best.residuals) < bound
+        assert "least squares" in result.notes[0]
+
+
+def test_the_general_path_search_finds_example_5_roots():
+    # The random-start route on Example 5's data (forced by giving b0 as coordinates and a1 free) finds only
+    # roots the exhaustive grid search finds, the book's among them (seed 002 §2-3, Example 5).
+    from domes.design.synthesis import path as pt
+    from domes.design.synthesis.pathfit import fit
+
+    P = [(1.0, 1.0), (2.0, 0.5), (3.0, 1.5), (2.0, 2.0), (1.5, 1.9)]
+    exhaustive = pt.five_points(P, (2.10, 0.60), (1.50, 4.20))
+    sols = fit(P, {"a0x": 2.1, "a0y": 0.6, "b0x": 1.5, "b0y": 4.2}, starts=1024)
+    assert len(sols) >= 10
+    for s in sols:
+        assert any(math.dist(s.a1, e.a1) + math.dist(s.b1, e.b1) < 1e-7 for e in exhaustive)
+    assert any(math.dist(s.a1, (0.607375, -1.127103)) < 1e-6 for s in sols)

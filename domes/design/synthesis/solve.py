@@ -28,12 +28,14 @@ import numpy as np
 from domes.design.synthesis import function as fn
 from domes.design.synthesis import guidance as gd
 from domes.design.synthesis import path as pt
+from domes.design.synthesis import pathfit as pf
 from domes.design.synthesis import sliders as sl
 from domes.design.synthesis.candidate import CurveTask, Dimensioning, dimension
 from domes.design.synthesis.displacement import moved, rotation_about
 from domes.design.synthesis.fourbars import Checks, FourBar, SliderCrank, check, check_slider
 from domes.design.synthesis.task import GuidanceTask, PathTask, RotationTask
 from domes.errors import InputError
+from domes.motion.planar.batch import batch
 from domes.results import Listing, Status
 
 
@@ -237,13 +239,16 @@ def generator_fourbar(g: fn.FunctionGenerator, theta: float, phi: float) -> Four
 # -- path generation ----------------------------------------------------------------------------
 
 def _path(task: PathTask, method: str = "exact", seeds: int = 64):
-    found = pt.five_points(task.points, task.a0, task.b0, method=method, seeds=seeds)
+    if not task.exhaustive:
+        return _path_fit(task, method, seeds)
+    a0, b0 = task.pivot("a0"), task.pivot("b0")
+    found = pt.five_points(task.points, a0, b0, method=method, seeds=seeds)
     sols = []
     for f in found:
-        fb = FourBar(task.a0, f.a1, f.b1, task.b0, task.points[0])
+        fb = FourBar(a0, f.a1, f.b1, b0, task.points[0])
         A, B = pt.coupler_positions(task.points, f)
-        a_r, b_r = math.dist(f.a1, task.a0), math.dist(f.b1, task.b0)
-        res = tuple(max(abs(math.dist(A[j], task.a0) - a_r), abs(math.dist(B[j], task.b0) - b_r))
+        a_r, b_r = math.dist(f.a1, a0), math.dist(f.b1, b0)
+        res = tuple(max(abs(math.dist(A[j], a0) - a_r), abs(math.dist(B[j], b0) - b_r))
                     for j in range(len(A)))
         sols.append(Solution(fb, check(fb, A, B), res, (
             "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),),
@@ -251,3 +256,60 @@ def _path(task: PathTask, method: str = "exact", seeds: int = 64):
     where = (f"on {pt.GRID} × {pt.GRID} grids of (θ12, θ13) and (θ14, θ15)" if method == "exact"
              else f"from {seeds} random starts (fast: some roots may be missing)")
     return len(found), sols, [f"{len(found)} real solution(s) {where}"]
+
+
+def _path_fit(task: PathTask, method: str, seeds: int):
+    """Table 2-1's other free choices, prescribed input angles, or least squares (:mod:`.pathfit`)."""
+    given = dict(task.given)
+    kind = pf.check_given(len(task.points), given, task.crank)
+    starts = 64 * seeds if method == "exact" else 8 * seeds
+    found = pf.fit(task.points, given, task.crank, starts=starts)
+    sols = []
+    for f in found:
+        fb = FourBar(f.a0, f.a1, f.b1, f.b0, task.points[0])
+        A, B = pt.coupler_positions(task.points, pt.PathSolution(f.a1, f.b1, f.rotations, f.residual))
+        if kind == "exact":
+            a_r, b_r = math.dist(f.a1, f.a0), math.dist(f.b1, f.b0)
+            res = tuple(max(abs(math.dist(A[j], f.a0) - a_r), abs(math.dist(B[j], f.b0) - b_r))
+                        for j in range(len(A)))
+            notes = ()
+        else:
+            res = curve_distances(fb, task.points)
+            notes = (f"least squares: distance of the points from the coupler curve {max(res):.3g} largest, "
+                     f"{float(np.sqrt(np.mean(np.square(res)))):.3g} RMS",)
+        sols.append(Solution(fb, check(fb, A, B), res, notes + (
+            "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),),
+            poses=_poses(A, B)))
+    eqs, unknowns, _ = pf.problem_counts(len(task.points), task.crank)
+    if kind == "exact":
+        note = (f"{len(found)} distinct real root(s) found from {starts} random starts ({eqs} equations, {unknowns} "
+                f"unknowns, {len(given)} given: Table 2-1); roots no start reached are missing")
+    else:
+        note = (f"least squares: {eqs} equations in {unknowns - len(given)} unknowns (Table 2-1); the {len(found)} "
+                f"best local minima of {starts} random starts")
+    return len(found), sols, [note]
+
+
+def curve_distances(fb: FourBar, points) -> tuple[float, ...]:
+    """The distance of each point from the coupler curve of ``fb`` on its drawn assembly mode (the one through the
+    first point): the nearest of 2,880 crank angles, then 400 around it, evaluated by the kernel."""
+    mech = fb.mechanism()
+    grid = np.linspace(-math.pi, math.pi, 2881)
+    b = batch(mech, inputs=grid, outputs=["point:P"])
+    curve = np.c_[b.values["point:P.x"][0], b.values["point:P.y"][0]]
+    pts = np.asarray(points, dtype=float)
+    near = [int(np.nanargmin(np.linalg.norm(curve - p, axis=1))) for p in pts]
+    h = grid[1] - grid[0]
+    local = np.concatenate([np.linspace(grid[k] - 2 * h, grid[k] + 2 * h, 401) for k in near])
+    fine = batch(mech, inputs=local, outputs=["point:P"])
+    xy = np.c_[fine.values["point:P.x"][0], fine.values["point:P.y"][0]].reshape(len(pts), 401, 2)
+    return tuple(min(_polyline_distance(xy[j], p, closed=False), _polyline_distance(curve, p))
+                 for j, p in enumerate(pts))
+
+
+def _polyline_distance(poly: np.ndarray, p: np.ndarray, closed: bool = True) -> float:
+    """The distance from ``p`` to the polyline ``poly`` (segments with a NaN end left out)."""
+    a, b = (poly, np.roll(poly, -1, axis=0)) if closed else (poly[:-1], poly[1:])
+    d = b - a
+    t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
+    return float(np.nanmin(np.linalg.norm(a + t[:, None] * d - p, axis=1)))

@@ -20,8 +20,11 @@ which one is wrong. Kinds:
   the structural error's extrema); or, as in Example 4, ``rotations_deg``
   ``[[θ12, φ12], [θ13, φ13]]`` with the rocker pin ``rocker_pin`` (frame
   from (0, 0) to (1, 0)).
-- ``path``: five ``points`` of the coupler path and both fixed pivots
-  ``a0`` and ``b0`` (Table 2-1's free choices for five points).
+- ``path``: ``points`` of the coupler path and the free choices of Table
+  2-1: whole pivots ``a0``, ``a1``, ``b0``, ``b1`` or coordinates in
+  ``given`` (``{"b0x": 1.5}``), as many as the count of the points leaves;
+  ``crank_deg`` prescribes the crank's rotations (timing). More given than
+  that: least squares. Five points with ``a0`` and ``b0`` is Example 5.
 - ``curve``: any labelled candidate (those of ``scene``, or the ids in
   ``candidates``) dimensioned by least squares: the ``input`` (``role``,
   ``pivot``, ``rotation_deg``) turns a link carrying ``point`` (``name``,
@@ -46,6 +49,7 @@ from domes.design.synthesis.expressions import expression
 from domes.design.synthesis.function import FunctionTask, chebyshev, check_function
 from domes.design.synthesis.guidance import Position, check_positions
 from domes.design.synthesis.path import check_path
+from domes.design.synthesis.pathfit import PIVOTS, check_given, check_points
 from domes.errors import InputError
 
 
@@ -64,12 +68,23 @@ class GuidanceTask:
 
 @dataclass(frozen=True)
 class PathTask:
-    """Five points of a coupler path with both fixed pivots given (Table 2-1, Example 5)."""
+    """Points of a coupler path, the pivot coordinates given (Table 2-1's free choices: ``a0x``, ``a0y``, ...)
+    and, optionally, the crank's rotations from point 1 to each later point (prescribed input angles, rad)."""
 
     points: tuple[tuple[float, float], ...]
-    a0: tuple[float, float]
-    b0: tuple[float, float]
+    given: tuple[tuple[str, float], ...] = ()
+    crank: tuple[float, ...] | None = None
     name: str = "path"
+
+    @property
+    def exhaustive(self) -> bool:
+        """Example 5's form (five points, both fixed pivots, no timing): searched for every real root."""
+        return len(self.points) == 5 and self.crank is None and {k for k, _ in self.given} == {"a0x", "a0y", "b0x",
+                                                                                               "b0y"}
+
+    def pivot(self, name: str) -> tuple[float, float]:
+        g = dict(self.given)
+        return (g[name + "x"], g[name + "y"])
 
 
 @dataclass(frozen=True)
@@ -172,17 +187,45 @@ def task_from_dict(data: dict, where: str = "task"):
         check_function(t)
         return t
     if kind == "path":
-        raw = data.get("points")
-        if not isinstance(raw, list) or len(raw) != 5:
-            raise InputError(f"{where}: 'points' must be five path points [x, y] (five points with both fixed pivots "
-                             f"given, Table 2-1); got {len(raw) if isinstance(raw, list) else raw!r}")
-        pts = tuple(_pair(p, f"{where}: point {j}") for j, p in enumerate(raw, 1))
-        t = PathTask(pts, _pair(data.get("a0"), f"{where}: a0"), _pair(data.get("b0"), f"{where}: b0"), name)
-        check_path(t.points, t.a0, t.b0)
-        return t
+        return _path(data, where, name)
     if kind == "curve":
         return _curve(data, where, name)
     raise InputError(f"{where}: 'kind' must be 'guidance', 'function', 'path' or 'curve', got {kind!r}")
+
+
+def _path(data: dict, where: str, name: str) -> PathTask:
+    """A path task: its points, the pivots or coordinates given, optional prescribed input angles."""
+    raw = data.get("points")
+    if not isinstance(raw, list) or not 3 <= len(raw) <= 100:
+        raise InputError(f"{where}: 'points' must be a list of 3 to 100 path points [x, y]; got "
+                         f"{len(raw) if isinstance(raw, list) else raw!r}")
+    pts = tuple(_pair(p, f"{where}: point {j}") for j, p in enumerate(raw, 1))
+    given = {}
+    for pivot in ("a0", "a1", "b0", "b1"):
+        if pivot in data:
+            given[pivot + "x"], given[pivot + "y"] = _pair(data[pivot], f"{where}: {pivot}")
+    extra = data.get("given", {})
+    if not isinstance(extra, dict):
+        raise InputError(f"{where}: 'given' must be an object of pivot coordinates, e.g. {{\"b0x\": 1.5}}")
+    for key, value in extra.items():
+        if key not in PIVOTS:
+            raise InputError(f"{where}: given {key!r} is not a pivot coordinate ({', '.join(PIVOTS)})")
+        if key in given:
+            raise InputError(f"{where}: {key} is given twice")
+        given[key] = _number(extra, key, f"{where}: given")
+    crank = data.get("crank_deg")
+    if crank is not None:
+        if not isinstance(crank, list) or len(crank) != len(pts) - 1:
+            raise InputError(f"{where}: 'crank_deg' lists the crank's rotation from point 1 to each later point: "
+                             f"{len(pts) - 1} numbers")
+        crank = tuple(math.radians(_number({"a": v}, "a", f"{where}: crank_deg")) for v in crank)
+    t = PathTask(pts, tuple(sorted(given.items(), key=lambda kv: PIVOTS.index(kv[0]))), crank, name)
+    if t.exhaustive:
+        check_path(t.points, t.pivot("a0"), t.pivot("b0"))
+    else:
+        check_points(t.points)
+        check_given(len(pts), given, crank)
+    return t
 
 
 def _section(data, key, where) -> dict:

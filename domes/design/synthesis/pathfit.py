@@ -1,0 +1,262 @@
+"""Path generation with any free choices of Table 2-1, with prescribed input angles, or through more points
+than an exact solution allows (least squares) (seed 002 §2-3, digest A.3.5).
+
+The unknowns are the pivots ``a0, a1, b1, b0`` (position 1) and the
+coupler rotations ``θ1j``; the equations (2-113) say that both cranks keep
+their lengths: ``|D1j a1 − a0| = |a1 − a0|`` and the same for ``b``. With
+the crank's rotations ``φ1j`` prescribed (timing), the crank pin's position
+is known both ways, ``D1j a1 = Rot(a0, φ1j) a1``: two equations instead of
+one. :mod:`~domes.design.synthesis.counts` counts them; the designer fixes
+as many of the pivots' coordinates (``a0x``, ``a0y``, ... or whole pivots)
+as the count leaves free. Fewer points than that is refused; more is a
+least-squares problem, and each solution then reports its distance from
+every point along its own coupler curve (the branch through point 1).
+
+The roots come from many random starts polished together (a damped
+Gauss-Newton, Levenberg-Marquardt, on arrays of starts with the analytic
+Jacobian); a root that no start reaches is missed, so the
+count is of roots *found*. (Example 5's form, five points with both fixed
+pivots, is searched exhaustively by :func:`~domes.design.synthesis.path.five_points`.)
+
+>>> P = [(1.0, 1.0), (2.0, 0.5), (3.0, 1.5), (2.0, 2.0)]
+>>> sols = fit(P, {"a0x": 2.1, "a0y": 0.6, "b0x": 1.5, "a1x": 0.6, "a1y": -1.1}, starts=64)
+>>> all(s.residual < 1e-9 for s in sols) and len(sols) > 0
+True
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from domes.design.synthesis.counts import PROBLEMS
+from domes.errors import InputError
+
+#: Solutions with a pivot farther than this many times the points' size from their centre are left out.
+REACH = 10.0
+
+#: Least-squares minima with a link shorter than this fraction of the points' size are degenerate, left out.
+SHORTEST = 0.01
+
+#: The pivot coordinates, in the order of the unknowns.
+PIVOTS = ("a0x", "a0y", "a1x", "a1y", "b1x", "b1y", "b0x", "b0y")
+
+
+@dataclass(frozen=True)
+class PathFit:
+    """A four-bar for the points: pivots (position 1), coupler rotations ``θ1j`` (rad), the largest residual of
+    the equations, and (least squares) the distance of every point from the coupler curve."""
+
+    a0: tuple[float, float]
+    a1: tuple[float, float]
+    b1: tuple[float, float]
+    b0: tuple[float, float]
+    rotations: tuple[float, ...]
+    residual: float
+    distances: tuple[float, ...] = ()
+
+
+def check_points(points) -> None:
+    """An InputError naming the points when they cannot be a path (coincident, not finite)."""
+    P = np.asarray(points, dtype=float)
+    if P.ndim != 2 or P.shape[1] != 2 or not np.all(np.isfinite(P)):
+        raise InputError(f"path points must be finite pairs (x, y), got an array of shape {P.shape}")
+    size = float(np.ptp(P, axis=0).max())
+    for j in range(len(P)):
+        for k in range(j):
+            if math.dist(P[j], P[k]) <= 1e-9 * max(size, 1e-300):
+                raise InputError(f"points {k + 1} and {j + 1} coincide")
+
+
+def problem_counts(n: int, crank=None) -> tuple[int, int, int]:
+    """``(equations, unknowns, free choices)`` of ``n`` path points (Table 2-1; with prescribed input angles)."""
+    name = "planar path, input angles prescribed" if crank is not None else "planar path"
+    return PROBLEMS[name].counts(n)
+
+
+def check_given(n: int, given: dict, crank=None) -> str:
+    """``"exact"`` or ``"least squares"``; an InputError when the points leave choices unmade."""
+    unknown = sorted(set(given) - set(PIVOTS))
+    if unknown:
+        raise InputError(f"given: {unknown} are not pivot coordinates; use {', '.join(PIVOTS)} (or a0, a1, b0, b1)")
+    eqs, unknowns, free = problem_counts(n, crank)
+    if len(given) < free:
+        raise InputError(f"{n} path points{' with input angles' if crank is not None else ''} leave {free} free "
+                         f"choices ({eqs} equations in {unknowns} unknowns, Table 2-1); {len(given)} given: fix "
+                         f"{free - len(given)} more pivot coordinate(s)")
+    return "exact" if len(given) == free else "least squares"
+
+
+def _residuals(X, P, given, crank, scale):
+    """Residuals ``(S, m)`` and their Jacobian ``(S, m, k)`` of ``S`` unknown vectors ``X`` (``(S, k)``) at once."""
+    S, n = X.shape[0], len(P)
+    cols, k = {}, 0
+    full = np.empty((S, 8))
+    for i, name in enumerate(PIVOTS):
+        if name in given:
+            full[:, i] = given[name]
+        else:
+            full[:, i] = X[:, k]
+            cols[i] = k
+            k += 1
+    th = X[:, k:]
+    a0, a1, b1, b0 = (full[:, 2 * i:2 * i + 2] for i in range(4))
+    rows, jac = [], []
+    da1, db1 = a1 - a0, b1 - b0
+    ra, rb = np.linalg.norm(da1, axis=1), np.linalg.norm(db1, axis=1)
+    q_a, q_b = a1 - P[0], b1 - P[0]
+
+    def row(grad_pivots, grad_theta, j):
+        """One Jacobian row from gradients by pivot (name -> (S, 2)) and by θ1j (S,)."""
+        J = np.zeros((S, X.shape[1]))
+        for p, g in grad_pivots.items():
+            base = 2 * ("a0", "a1", "b1", "b0").index(p)
+            for c in (0, 1):
+                if base + c in cols:
+                    J[:, cols[base + c]] += g[:, c]
+        J[:, k + j - 1] += grad_theta
+        return J
+
+    for j in range(1, n):
+        c, s = np.cos(th[:, j - 1]), np.sin(th[:, j - 1])
+        rot = lambda v: np.c_[c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]]           # noqa: E731
+        drot = lambda v: np.c_[-s * v[:, 0] - c * v[:, 1], c * v[:, 0] - s * v[:, 1]]         # noqa: E731
+        rotT = lambda v: np.c_[c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1]]         # noqa: E731
+        aj, bj = rot(q_a) + P[j], rot(q_b) + P[j]
+        if crank is None:
+            ea = aj - a0
+            la = np.linalg.norm(ea, axis=1)
+            ua, u1 = ea / la[:, None], da1 / ra[:, None]
+            rows.append(la - ra)
+            jac.append(row({"a1": rotT(ua) - u1, "a0": -ua + u1}, (ua * drot(q_a)).sum(axis=1), j))
+        else:
+            cf, sf = math.cos(crank[j - 1]), math.sin(crank[j - 1])
+            Rf = np.array([[cf, -sf], [sf, cf]])
+            e = aj - (da1 @ Rf.T + a0)
+            for comp in (0, 1):
+                rows.append(e[:, comp])
+                Rj = np.stack([np.c_[c, -s], np.c_[s, c]], axis=1)           # (S, 2, 2)
+                g_a1 = Rj[:, comp, :] - Rf[comp]
+                g_a0 = Rf[comp] - np.eye(2)[comp]
+                jac.append(row({"a1": g_a1, "a0": np.broadcast_to(g_a0, (S, 2))}, drot(q_a)[:, comp], j))
+        eb = bj - b0
+        lb = np.linalg.norm(eb, axis=1)
+        ub, v1 = eb / lb[:, None], db1 / rb[:, None]
+        rows.append(lb - rb)
+        jac.append(row({"b1": rotT(ub) - v1, "b0": -ub + v1}, (ub * drot(q_b)).sum(axis=1), j))
+    return np.stack(rows, axis=1) / scale, np.stack(jac, axis=1) / scale
+
+
+def _levenberg_marquardt(X, P, given, crank, scale, iterations: int = 200):
+    """Damped Gauss-Newton from every row of ``X`` at once; the polished rows and their residuals. Rows that
+    have converged or stalled (the damping grown past 1e10) drop out of the batch."""
+    X = X.copy()
+    with np.errstate(all="ignore"):
+        r, J = _residuals(X, P, given, crank, scale)
+        cost = np.sum(r * r, axis=1)
+        lam = np.full(X.shape[0], 1e-3)
+        active = np.flatnonzero(np.isfinite(cost))
+        eye = np.eye(X.shape[1])
+        for _ in range(iterations):
+            if not active.size:
+                break
+            Ja, ra = J[active], r[active]
+            JT = np.transpose(Ja, (0, 2, 1))
+            A = JT @ Ja
+            g = (JT @ ra[:, :, None])[:, :, 0]
+            D = np.einsum("sii->si", A) + 1e-30
+            step = -np.linalg.solve(A + lam[active, None, None] * np.einsum("si,ij->sij", D, eye),
+                                    g[:, :, None])[:, :, 0]
+            Xt = X[active] + step
+            rt, Jt = _residuals(Xt, P, given, crank, scale)
+            ct = np.sum(rt * rt, axis=1)
+            better = np.isfinite(ct) & (ct < cost[active])
+            rows = active[better]
+            X[rows], r[rows], J[rows], cost[rows] = Xt[better], rt[better], Jt[better], ct[better]
+            lam[active] = np.clip(np.where(better, lam[active] / 3, lam[active] * 4), 1e-12, 1e12)
+            active = active[(lam[active] < 1e10) & (cost[active] > 1e-30)]
+    return X, r
+
+
+def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep: int = 10) -> list[PathFit]:
+    """Four-bars through ``points`` with the pivot coordinates ``given``: every distinct root found (exact), or the
+    ``keep`` best distinct local minima (least squares), from ``starts`` random starts.
+
+    ``crank``: the crank's rotations ``φ1j`` (rad) from point 1 to each later point (prescribed input angles).
+    """
+    check_points(points)
+    P = np.asarray(points, dtype=float)
+    n = len(P)
+    if crank is not None and len(crank) != n - 1:
+        raise InputError(f"prescribed input angles: one crank rotation per point after the first ({n - 1}), got "
+                         f"{len(crank)}")
+    kind = check_given(n, given, crank)
+    size = float(max(np.ptp(P, axis=0).max(), 1e-300))
+    centre = P.mean(axis=0)
+    free = [p for p in PIVOTS if p not in given]
+    rng = np.random.default_rng(seed)
+    X0 = np.hstack([centre[[0 if p.endswith("x") else 1 for p in free]] + 2 * size * rng.uniform(-1, 1, (starts, len(free))),
+                    rng.uniform(-math.pi, math.pi, (starts, n - 1))])
+    X, r = _levenberg_marquardt(X0, P, given, crank, size)
+    found = _collect(X, r, P, given, kind, size, keep)
+    if kind == "least squares":          # the minima polished to the end (the batch stops at a cap), ranked again
+        fun = lambda x: _residuals(x[None], P, given, crank, size)[0][0]            # noqa: E731
+        jac = lambda x: _residuals(x[None], P, given, crank, size)[1][0]            # noqa: E731
+        idx = [i for i, _ in found]
+        for i in idx:
+            with np.errstate(all="ignore"):
+                X[i] = least_squares(fun, X[i], jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+            r[i] = fun(X[i])
+        found = _collect(X[idx], r[idx], P, given, kind, size, keep)
+    return [f for _, f in found]
+
+
+def _collect(X, r, P, given, kind, size, keep):
+    """``(row, PathFit)`` of the distinct usable rows of ``X``, best first."""
+    centre = P.mean(axis=0)
+    res = np.max(np.abs(r), axis=1) * size
+    if kind == "least squares":
+        res = np.sqrt(np.mean(r * r, axis=1)) * size
+    order = np.argsort(np.where(np.isfinite(res), res, np.inf))
+    found: list[tuple[int, PathFit]] = []
+    for i in order:
+        if not np.isfinite(res[i]) or (kind == "exact" and res[i] > 1e-9 * size):
+            continue
+        full = [given[name] if name in given else None for name in PIVOTS]
+        it = iter(X[i])
+        full = [v if v is not None else float(next(it)) for v in full]
+        th = list(it)
+        cand = PathFit(*(tuple(full[2 * k:2 * k + 2]) for k in range(4)),
+                       tuple(float(math.remainder(t, 2 * math.pi)) for t in th), float(res[i]))
+        shortest = min(math.dist(cand.a0, cand.a1), math.dist(cand.b0, cand.b1), math.dist(cand.a1, cand.b1),
+                       math.dist(cand.a0, cand.b0))
+        if shortest <= (1e-6 if kind == "exact" else SHORTEST) * size:
+            continue                                   # a link of (nearly) zero length: not a four-bar
+        if max(math.dist(q, centre) for q in (cand.a0, cand.a1, cand.b1, cand.b0)) > REACH * size:
+            continue                                   # pivots run off to infinity: the path's points nearly in line
+        if kind == "least squares" and _mixed_modes(cand, P):
+            continue                                   # points met on both assembly modes: no curve through them
+        if not any(_same(cand, f, size) for _, f in found):
+            found.append((int(i), cand))
+        if kind == "least squares" and len(found) >= keep:
+            break
+    return found
+
+
+def _mixed_modes(f: PathFit, P) -> bool:
+    """Whether the linkage meets the points on both assembly modes (the side of ``b_j`` from the line ``a_j b0``)."""
+    signs = set()
+    for j, th in enumerate((0.0,) + f.rotations):
+        c, s = math.cos(th), math.sin(th)
+        R = np.array([[c, -s], [s, c]])
+        aj, bj = R @ np.subtract(f.a1, P[0]) + P[j], R @ np.subtract(f.b1, P[0]) + P[j]
+        u, v = bj - aj, np.subtract(f.b0, bj)
+        signs.add(np.sign(u[0] * v[1] - u[1] * v[0]))
+    return len(signs - {0.0}) > 1
+
+
+def _same(p: PathFit, q: PathFit, size: float) -> bool:
+    return sum(math.dist(getattr(p, k), getattr(q, k)) for k in ("a0", "a1", "b1", "b0")) <= 1e-6 * size
