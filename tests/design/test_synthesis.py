@@ -425,3 +425,41 @@ def test_the_general_path_search_finds_example_5_roots():
     for s in sols:
         assert any(math.dist(s.a1, e.a1) + math.dist(s.b1, e.b1) < 1e-7 for e in exhaustive)
     assert any(math.dist(s.a1, (0.607375, -1.127103)) < 1e-6 for s in sols)
+
+
+def test_three_position_spherical_closed_form_s12():
+    # Digest S-12, seed 002 (2-92)-(2-96): a0 = ±(A, −B, C)/D is unit and equidistant from a1, a2, a3 (1e-12),
+    # and is the normal of their plane found independently by a cross product. With the printed (2-93) sign
+    # (+B) the point is not equidistant.
+    from domes.design.synthesis.spherical import centre_points_three
+
+    rng = np.random.default_rng(12)
+    for _ in range(100):
+        a = rng.normal(size=(3, 3))
+        a /= np.linalg.norm(a, axis=1)[:, None]
+        for a0 in centre_points_three(*a):
+            assert abs(np.linalg.norm(a0) - 1) < 1e-12
+            d = np.linalg.norm(a - a0, axis=1)
+            assert np.ptp(d) < 1e-12
+        normal = np.cross(a[1] - a[0], a[2] - a[0])
+        assert min(np.linalg.norm(centre_points_three(*a)[0] - s * normal / np.linalg.norm(normal))
+                   for s in (1, -1)) < 1e-12
+        printed = centre_points_three(*a)[0] * np.array([1, -1, 1])
+        assert np.ptp(np.linalg.norm(a - printed, axis=1)) > 1e-6
+
+
+def test_equation_and_unknown_counts_s14():
+    # Digest S-14 and Tables 2-1 to 2-3, A.3.6: counted from the constraint families, not typed in.
+    from domes.design.synthesis.counts import PROBLEMS
+
+    for n in range(2, 10):
+        assert PROBLEMS["planar path"].counts(n)[:2] == (2 * (n - 1), n + 7)
+        assert PROBLEMS["spherical path"].counts(n)[:2] == (2 * n + 2, n + 11)
+        assert PROBLEMS["RRSS path"].counts(n)[:2] == (5 * n - 1, 3 * n + 15)
+    assert PROBLEMS["R-R"].counts(3)[:2] == (12, 12)
+    assert PROBLEMS["C-C"].counts(5)[:2] == (20, 20)
+    assert PROBLEMS["R-C"].counts(3)[:2] == (12, 14)
+    most = {name: p.most() for name, p in PROBLEMS.items()}        # A.3.6: maximum positions, free parameters
+    assert most["planar crank"] == (5, 0) and most["S-S"] == (7, 0) and most["R-S"] == (4, 1)
+    assert most["R-R"] == (3, 0) and most["R-C"] == (3, 2) and most["C-C"] == (5, 0)
+    assert most["planar path"] == (9, 0) and most["spherical path"] == (9, 0) and most["RRSS path"] == (8, 0)
