@@ -463,3 +463,32 @@ def test_equation_and_unknown_counts_s14():
     assert most["planar crank"] == (5, 0) and most["S-S"] == (7, 0) and most["R-S"] == (4, 1)
     assert most["R-R"] == (3, 0) and most["R-C"] == (3, 2) and most["C-C"] == (5, 0)
     assert most["planar path"] == (9, 0) and most["spherical path"] == (9, 0) and most["RRSS path"] == (8, 0)
+
+
+@pytest.mark.slow
+def test_five_position_guidance_round_trip_of_200_four_bars():
+    # Issue 13 acceptance: 200 random four-bars (Grashof and not; a non-Grashof one is sampled where it
+    # assembles), five positions of their own coupler; synthesis returns the original linkage among its
+    # solutions in at least 99% of cases, and every solution meets its positions to 1e-9 of their size.
+    from domes.design.synthesis.task import GuidanceTask
+
+    rng = np.random.default_rng(200)
+    hits = total = 0
+    while total < 200:
+        a, b, c, d = rng.uniform(0.5, 3.0, 4)
+        thetas = np.sort(rng.uniform(0, 2 * math.pi, 5))
+        try:
+            pos = _coupler_positions(a, b, c, d, rng.uniform(-1, 1), rng.uniform(-1, 1), thetas)
+        except ValueError:                    # the linkage does not assemble at one of the crank angles
+            continue
+        total += 1
+        result = synthesize(GuidanceTask(tuple(p for p, _, _ in pos)))
+        size = gd.size([p for p, _, _ in pos])
+        assert all(max(s.residuals) <= 1e-9 * max(size, max(s.fourbar.lengths)) for s in result.solutions)
+        B1, C1 = pos[0][1], pos[0][2]
+        hits += any(min(math.dist(s.fourbar.a0, (0, 0)) + math.dist(s.fourbar.a1, B1)
+                        + math.dist(s.fourbar.b0, (d, 0)) + math.dist(s.fourbar.b1, C1),
+                        math.dist(s.fourbar.b0, (0, 0)) + math.dist(s.fourbar.b1, B1)
+                        + math.dist(s.fourbar.a0, (d, 0)) + math.dist(s.fourbar.a1, C1)) < 1e-6
+                    for s in result.solutions)
+    assert hits >= 198, hits

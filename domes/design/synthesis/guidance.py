@@ -183,6 +183,9 @@ def circle_point_curve(positions: list[Position], xs) -> list[Dyad]:
 
 #: The frames (turned by these angles, rad) in which the Burmester points are searched.
 TURNS = (0.0, 1.0, 2.1)
+#: The half-widths (× the positions' size) of the windows the resultant is fitted over: a degree-9 polynomial
+#: fitted over a wide window loses the relative accuracy of its small values near the middle.
+WINDOWS = (2.0, 10.0)
 
 
 def burmester_points(positions: list[Position], reach: float = 10.0, method: str = "exact", seeds: int = 64,
@@ -221,8 +224,9 @@ def burmester_points(positions: list[Position], reach: float = 10.0, method: str
         c, si = math.cos(turn), math.sin(turn)
         turned = [Position((c * p.point[0] - si * p.point[1], si * p.point[0] + c * p.point[1]), p.angle + turn)
                   for p in positions]
-        for a1 in _burmester_once(turned, reach):
-            _keep(positions, (c * a1[0] + si * a1[1], -si * a1[0] + c * a1[1]), found, s)
+        for window in WINDOWS:
+            for a1 in _burmester_once(turned, min(window, reach)):
+                _keep(positions, (c * a1[0] + si * a1[1], -si * a1[0] + c * a1[1]), found, s)
     return found
 
 
