@@ -6,7 +6,9 @@ Example 5), the log10 function generator at 3, 4 and 5 points (with and
 without re-spacing) and random tasks (five coupler positions of a random
 four-bar: Burmester points; five precision points of a random four-bar's
 input-output function; five path points of a random four-bar with its fixed
-pivots given),
+pivots given; Table 2-1's other free choices, prescribed input angles), the
+least-squares path through twelve points and the rising-rate suspension
+(every candidate of the motorcycle scene),
 it prints the median time, the real roots and the usable linkages found, and
 for the random tasks how often the generating linkage is among them, for
 the exact method (every root) and the fast one (Newton from 64 random
@@ -31,6 +33,7 @@ from domes.design.synthesis import function as fn  # noqa: E402
 from domes.design.synthesis import guidance as gd  # noqa: E402
 from domes.design.synthesis import path as pt  # noqa: E402
 from domes.design.synthesis import synthesize, task_from_dict  # noqa: E402
+from domes.design.synthesis.pathfit import crank_rocker_path  # noqa: E402
 from domes.io.tasks import load_task  # noqa: E402
 
 
@@ -53,15 +56,60 @@ def book_rows():
                           task_from_dict({"kind": "function", "function": "log10(x)", "range": [1, 10], "input_deg": 60,
                                           "output_deg": -90, "points": n, "start_deg": start, "respace": respace})))
     tasks.append(("Example 5, fast (64 random starts)", tasks[2][1]))
+    tasks.append(("Example 2 + slider (4 positions, circle point on x = 0)",
+                  load_task(ROOT / "examples/synthesis/ch2-example-2-slider.json")))
+    tasks.append(("12 path points, a0 given (least squares)", load_task(ROOT / "examples/synthesis/path-twelve-points.json")))
     for name, task in tasks:
-        seconds, result = timed(task, method="fast" if "fast" in name else "exact")
+        repeats = 1 if "least squares" in name else 5
+        seconds, result = timed(task, repeats, method="fast" if "fast" in name else "exact")
         extra = ""
         best = result.usable[0] if result.usable else None
         if best is not None and best.structural is not None:
             extra = f"largest error {math.degrees(best.structural.largest):.4f}°"
             if best.respaced is not None:
                 extra += f" → {math.degrees(best.respaced.after.largest):.4f}° (spread {best.respaced.after.spread:.1e})"
+        if best is not None and "least squares" in name:
+            extra = f"largest distance {max(best.residuals):.2g} (points read to 0.01)"
         yield name, seconds, result.roots, len(result.solutions), len(result.usable), extra
+
+
+def candidate_rows():
+    """The rising-rate suspension: every candidate of the motorcycle scene dimensioned by least squares."""
+    task = load_task(ROOT / "examples/synthesis/rising-rate.json")
+    for method in ("exact", "fast"):
+        t = time.perf_counter()
+        result = synthesize(task, method)
+        seconds = time.perf_counter() - t
+        for cid, _ in task.candidates:
+            mine = [s for s in result.usable if s.candidate == cid]
+            best = min((s.error for s in mine), default=math.inf)
+            yield method, cid, len(mine), best, seconds / len(task.candidates)
+
+
+#: Table 2-1 rows measured: points, pivot coordinates given, prescribed input angles.
+PATH_ROWS = ((4, ("a0x", "a0y", "a1x", "a1y", "b0x"), False), (6, ("a0x", "a0y", "b0x"), False),
+             (7, ("a0x", "a0y"), False), (5, (), True))
+
+
+def path_rows(count, method):
+    rng = np.random.default_rng(3)
+    for n, keys, timing in PATH_ROWS:
+        times, roots, hits = [], [], 0
+        for _ in range(count):
+            P, a0, b0, A, B, ths = crank_rocker_path(rng, n)
+            values = {"a0x": a0[0], "a0y": a0[1], "b0x": b0[0], "b0y": b0[1], "a1x": A[0][0], "a1y": A[0][1]}
+            data = {"kind": "path", "points": P.tolist(), "given": {k: float(values[k]) for k in keys}}
+            if timing:
+                data["crank_deg"] = np.degrees(ths[1:] - ths[0]).tolist()
+            t = time.perf_counter()
+            result = synthesize(task_from_dict(data), method)
+            times.append(time.perf_counter() - t)
+            roots.append(result.roots)
+            hits += any(math.dist(s.fourbar.a1, A[0]) < 1e-6 and math.dist(s.fourbar.b1, B[0]) < 1e-6
+                        for s in result.solutions)
+        given = ", ".join(keys) if keys else "nothing"
+        yield (f"random: {n} path points, {given} given{', input angles prescribed' if timing else ''}",
+               statistics.median(times), statistics.median(roots), f"{hits}/{count} generating linkages found")
 
 
 def _coupler_positions(rng):
@@ -146,6 +194,14 @@ def main(argv=None):
     for method in ("exact", "fast"):
         for name, seconds, roots, hits in random_rows(args.random, method):
             print(f"| {name} | {method} | {seconds * 1e3:.1f} | {roots:g} | {hits} |", flush=True)
+    for method in ("exact", "fast"):
+        for name, seconds, roots, hits in path_rows(max(1, args.random // 5), method):
+            print(f"| {name} | {method} | {seconds * 1e3:.1f} | {roots:g} | {hits} |", flush=True)
+    print()
+    print("| rising-rate suspension | candidate | verified layouts | best leverage error | seconds per candidate |")
+    print("|---|---:|---:|---:|---:|")
+    for method, cid, count, best, seconds in candidate_rows():
+        print(f"| {method} | {cid} | {count} | {100 * best:.3g}% | {seconds:.2f} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@ from domes.design.synthesis import function as fn
 from domes.design.synthesis import guidance as gd
 from domes.design.synthesis import synthesize, task_from_dict
 from domes.design.synthesis.displacement import displacement, moved
+from domes.design.synthesis.pathfit import crank_rocker_path
 from domes.errors import InputError
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.sweep import solve
@@ -356,24 +357,6 @@ def test_the_fast_method_finds_a_subset_of_the_exact_roots():
         synthesize(task, "guess")
 
 
-def _planted_path(rng, n):
-    """``n`` points of the coupler curve of a random crank-rocker, with its pivots and the crank angles."""
-    a0 = rng.uniform(-1, 1, 2)
-    b0 = a0 + np.array([3.0, 0.0]) + rng.uniform(-0.5, 0.5, 2)
-    b, c = rng.uniform(2.8, 3.5), rng.uniform(2.5, 3.2)
-    body = rng.uniform(-1.5, 1.5, 2)
-    ths = np.linspace(0, 2 * np.pi, n, endpoint=False) + rng.uniform(0, 0.3)
-    P, A, B = [], [], []
-    for t in ths:
-        a = a0 + np.array([np.cos(t), np.sin(t)])
-        d = np.linalg.norm(b0 - a)
-        ang = math.atan2(*(b0 - a)[::-1]) + math.acos((d * d + b * b - c * c) / (2 * d * b))
-        P.append(a + np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]]) @ body)
-        A.append(a)
-        B.append(a + b * np.array([math.cos(ang), math.sin(ang)]))
-    return np.array(P), a0, b0, A, B, ths
-
-
 @pytest.mark.parametrize("n, keys", [(4, ("a0x", "a0y", "a1x", "a1y", "b0x")), (5, ("a0x", "a0y", "b0x", "b1y")),
                                      (6, ("a0x", "a0y", "b0x"))])
 def test_table_2_1_free_choices_recover_a_planted_four_bar(n, keys):
@@ -384,7 +367,7 @@ def test_table_2_1_free_choices_recover_a_planted_four_bar(n, keys):
     rng = np.random.default_rng(n)
     hits = 0
     for _ in range(4):
-        P, a0, b0, A, B, _ = _planted_path(rng, n)
+        P, a0, b0, A, B, _ = crank_rocker_path(rng, n)
         values = {"a0x": a0[0], "a0y": a0[1], "b0x": b0[0], "b0y": b0[1], "a1x": A[0][0], "a1y": A[0][1],
                   "b1x": B[0][0], "b1y": B[0][1]}
         sols = fit(P, {k: values[k] for k in keys}, starts=2048)
@@ -399,11 +382,11 @@ def test_prescribed_input_angles_and_least_squares_path():
     # problem: points on the planted curve are met (distance 1e-9 along the traced curve), and points moved by
     # 1e-3 leave distances of that order, reported per point.
     rng = np.random.default_rng(11)
-    P, a0, b0, A, B, ths = _planted_path(rng, 5)
+    P, a0, b0, A, B, ths = crank_rocker_path(rng, 5)
     data = {"kind": "path", "points": P.tolist(), "crank_deg": np.degrees(ths[1:] - ths[0]).tolist()}
     result = synthesize(task_from_dict(data), "fast", 64)
     assert any(math.dist(s.fourbar.a1, A[0]) < 1e-6 and math.dist(s.fourbar.b0, b0) < 1e-6 for s in result.solutions)
-    P, a0, b0, *_ = _planted_path(rng, 12)
+    P, a0, b0, *_ = crank_rocker_path(rng, 12)
     for noise, bound in ((0.0, 1e-7), (1e-3, 1e-2)):
         moved_points = P + rng.normal(0, noise, P.shape)
         result = synthesize(task_from_dict({"kind": "path", "points": moved_points.tolist(), "a0": a0.tolist()}))

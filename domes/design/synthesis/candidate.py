@@ -143,8 +143,20 @@ class Dimensioned:
         return not self.defects
 
 
+class SolutionSet(Listing):
+    """A result listing solutions that each say whether they are ``usable``: COMPLETE when one is."""
+
+    @property
+    def usable(self) -> tuple:
+        return tuple(s for s in getattr(self, self.items_field) if s.usable)
+
+    @property
+    def status(self) -> Status:
+        return Status.COMPLETE if self.usable else Status.EMPTY
+
+
 @dataclass(frozen=True, eq=False)
-class Dimensioning(Listing):
+class Dimensioning(SolutionSet):
     """The best layouts of every candidate; ``screened`` random layouts were tried, ``polished`` polished."""
 
     task_name: str
@@ -160,14 +172,6 @@ class Dimensioning(Listing):
     @property
     def roots(self) -> int:
         return len(self.solutions)
-
-    @property
-    def usable(self) -> tuple[Dimensioned, ...]:
-        return tuple(s for s in self.solutions if s.usable)
-
-    @property
-    def status(self) -> Status:
-        return Status.COMPLETE if self.usable else Status.EMPTY
 
     @property
     def message(self) -> str:

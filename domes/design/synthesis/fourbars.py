@@ -116,8 +116,6 @@ def check_slider(sc: SliderCrank, positions_a, positions_b) -> Checks:
     if min(r, length) <= 1e-9 * max(r, length):
         defects.append("a link of zero length")
     modes = [np.sign(np.dot(B[j] - A[j], u)) for j in range(len(A))]
-    if len({m for m in modes if m != 0}) > 1:
-        defects.append("branch defect: the precision positions lie on both assembly modes")
 
     def dead(angles):
         n = np.array([-u[1], u[0]])
@@ -129,13 +127,7 @@ def check_slider(sc: SliderCrank, positions_a, positions_b) -> Checks:
                 return j + 1, float(math.degrees(th[int(np.argmax(bad))]))
         return None
 
-    angles, stuck = _crank_order(A, a0, dead)
-    if angles is None:
-        angles = np.array([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
-        defects.append("order defect: the crank does not reach the positions in order within one turn either way")
-    elif stuck is not None:
-        defects.append(f"dead point: the crank cannot turn from position {stuck[0]} to {stuck[0] + 1} (the coupler "
-                       f"does not reach the slide near crank angle {stuck[1]:.1f}°)")
+    angles = _motion_defects(A, a0, modes, dead, "the coupler does not reach the slide", defects)
     mu = [math.degrees(math.acos(min(1.0, abs(float(np.dot(B[j] - A[j], u))) / max(length, 1e-300))))
           for j in range(len(A))]                        # the coupler's angle with the slide: 0 best
     return Checks(kind, turns, 90.0 - max(mu) if mu else float("nan"),
@@ -187,15 +179,7 @@ def check(fb: FourBar, positions_a, positions_b) -> Checks:
     if min(a, b, c, d) <= 1e-9 * max(a, b, c, d):
         defects.append("a link of zero length")
     modes = [np.sign(_cross(B[j] - A[j], b0 - B[j])) for j in range(len(A))]
-    if len({m for m in modes if m != 0}) > 1:
-        defects.append("branch defect: the precision positions lie on both assembly modes")
-    angles, stuck = _crank_order(A, a0, lambda th: _dead_between(fb, th))
-    if angles is None:
-        angles = np.array([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
-        defects.append("order defect: the crank does not reach the positions in order within one turn either way")
-    elif stuck is not None:
-        defects.append(f"dead point: the crank cannot turn from position {stuck[0]} to {stuck[0] + 1} (the loop "
-                       f"does not close near crank angle {stuck[1]:.1f}°)")
+    angles = _motion_defects(A, a0, modes, lambda th: _dead_between(fb, th), "the loop does not close", defects)
     mu = []
     for j in range(len(A)):
         u, v = A[j] - B[j], b0 - B[j]
@@ -204,6 +188,20 @@ def check(fb: FourBar, positions_a, positions_b) -> Checks:
         mu.append(min(ang, 180 - ang))
     return Checks(kind, turns, min(mu) if mu else float("nan"), tuple(float(math.degrees(x)) for x in angles),
                   tuple(defects))
+
+
+def _motion_defects(A, a0, modes, dead, why: str, defects: list) -> np.ndarray:
+    """Branch, order and dead-point defects (appended to ``defects``); the crank's angles at the positions."""
+    if len({m for m in modes if m != 0}) > 1:
+        defects.append("branch defect: the precision positions lie on both assembly modes")
+    angles, stuck = _crank_order(A, a0, dead)
+    if angles is None:
+        defects.append("order defect: the crank does not reach the positions in order within one turn either way")
+        return np.array([math.atan2(*(A[j] - a0)[::-1]) for j in range(len(A))])
+    if stuck is not None:
+        defects.append(f"dead point: the crank cannot turn from position {stuck[0]} to {stuck[0] + 1} ({why} near "
+                       f"crank angle {stuck[1]:.1f}°)")
+    return angles
 
 
 def _crank_order(A, a0, dead):

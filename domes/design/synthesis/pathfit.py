@@ -260,3 +260,23 @@ def _mixed_modes(f: PathFit, P) -> bool:
 
 def _same(p: PathFit, q: PathFit, size: float) -> bool:
     return sum(math.dist(getattr(p, k), getattr(q, k)) for k in ("a0", "a1", "b1", "b0")) <= 1e-6 * size
+
+
+def crank_rocker_path(rng, n: int):
+    """``n`` points of the coupler curve of a random crank-rocker (crank 1, frame about 3), evenly spaced in
+    crank angle, with the linkage that makes them: ``(points, a0, b0, crank pins, rocker pins, crank angles)``;
+    test and benchmark data for path generation (the generating linkage is a known root)."""
+    a0 = rng.uniform(-1, 1, 2)
+    b0 = a0 + np.array([3.0, 0.0]) + rng.uniform(-0.5, 0.5, 2)
+    b, c = rng.uniform(2.8, 3.5), rng.uniform(2.5, 3.2)
+    body = rng.uniform(-1.5, 1.5, 2)
+    ths = np.linspace(0, 2 * np.pi, n, endpoint=False) + rng.uniform(0, 0.3)
+    P, A, B = [], [], []
+    for t in ths:
+        a = a0 + np.array([np.cos(t), np.sin(t)])
+        d = np.linalg.norm(b0 - a)
+        ang = math.atan2(*(b0 - a)[::-1]) + math.acos((d * d + b * b - c * c) / (2 * d * b))
+        P.append(a + np.array([[math.cos(ang), -math.sin(ang)], [math.sin(ang), math.cos(ang)]]) @ body)
+        A.append(a)
+        B.append(a + b * np.array([math.cos(ang), math.sin(ang)]))
+    return np.array(P), a0, b0, A, B, ths

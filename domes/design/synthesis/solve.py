@@ -30,13 +30,12 @@ from domes.design.synthesis import guidance as gd
 from domes.design.synthesis import path as pt
 from domes.design.synthesis import pathfit as pf
 from domes.design.synthesis import sliders as sl
-from domes.design.synthesis.candidate import CurveTask, Dimensioning, dimension
+from domes.design.synthesis.candidate import CurveTask, Dimensioning, SolutionSet, dimension
 from domes.design.synthesis.displacement import moved, rotation_about
 from domes.design.synthesis.fourbars import Checks, FourBar, SliderCrank, check, check_slider
 from domes.design.synthesis.task import GuidanceTask, PathTask, RotationTask
 from domes.errors import InputError
 from domes.motion.planar.batch import batch
-from domes.results import Listing, Status
 
 
 @dataclass(frozen=True)
@@ -65,7 +64,7 @@ class Solution:
 
 
 @dataclass(frozen=True, eq=False)
-class Synthesis(Listing):
+class Synthesis(SolutionSet):
     """Every solution of a task, ranked; ``roots`` is the count of real roots found before the checks."""
 
     task_name: str
@@ -75,14 +74,6 @@ class Synthesis(Listing):
     seconds: float
     notes: tuple[str, ...] = field(default_factory=tuple)
     items_field = "solutions"
-
-    @property
-    def usable(self) -> tuple[Solution, ...]:
-        return tuple(s for s in self.solutions if s.usable)
-
-    @property
-    def status(self) -> Status:
-        return Status.COMPLETE if self.usable else Status.EMPTY
 
     @property
     def message(self) -> str:
