@@ -15,7 +15,7 @@ import argparse
 import json
 import math
 
-from domes.cli.common import write_output
+from domes.cli.common import progress_printer, write_output
 from domes.design.synthesis import synthesize
 from domes.design.synthesis.candidate import Dimensioning
 from domes.design.synthesis.fourbars import SliderCrank
@@ -53,7 +53,7 @@ def run(args) -> int:
     if args.output:
         check_target(args.output)
     task = load_task(args.task)
-    result = synthesize(task, args.method, args.seeds)
+    result = synthesize(task, args.method, args.seeds, progress=progress_printer())
     if args.format == "html":
         text = synthesis_html(result, task)
     elif isinstance(result, Dimensioning):

@@ -19,13 +19,13 @@ from domes.io.tasks import load_task
 from domes.sketch.synthesis import synthesis_html
 
 
-def dimension_candidate(candidate: int, chain, path: str) -> tuple[str, dict | None]:
+def dimension_candidate(candidate: int, chain, path: str, progress=None) -> tuple[str, dict | None]:
     """The layouts of a kept candidate for the task in ``path`` as text, and the best verified one as a record."""
     task = load_task(path, candidates=[(candidate, chain)])
     if not isinstance(task, CurveTask):
         raise InputError(f"{path}: a kept candidate is dimensioned against a 'curve' task (a wanted curve over "
                          f"its stroke); this task is of another kind")
-    result = synthesize(task)
+    result = synthesize(task, progress=progress)
     best = next(iter(result.usable), None)
     lines = [f"dimensioned candidate {candidate} for {path}: {len(result.usable)} verified layout(s)",
              f"  {result.message}"]

@@ -242,7 +242,7 @@ class World:
         """Dimension a kept candidate for the curve task in ``path``; the best verified layout joins the case."""
         record = None
         try:
-            text, record = dimension_candidate(candidate, chain, path)
+            text, record = dimension_candidate(candidate, chain, path, self.progress)
         except DomesError as exc:
             text = f"candidate {candidate} could not be dimensioned for {path}: {exc}"
         self.say(text)

@@ -49,7 +49,7 @@ from domes.model.mechanism import CouplerPoint, Mechanism, from_labelled
 from domes.motion.planar.kernel import Program
 from domes.motion.planar.query import Kinematics
 from domes.motion.planar.sweep import sweep
-from domes.results import Listing, Status
+from domes.results import Listing, Progress, Status, Ticker
 
 QUANTITIES = ("leverage", "length", "angle")
 
@@ -343,7 +343,8 @@ def _one(chain, role: str) -> int:
     return links[0]
 
 
-def dimension(task: CurveTask, candidates, method: str = "exact", seeds: int = 64, seed: int = 0) -> Dimensioning:
+def dimension(task: CurveTask, candidates, method: str = "exact", seeds: int = 64, seed: int = 0,
+              progress: Progress | None = None) -> Dimensioning:
     """Dimension every ``(id, labelled chain)`` of ``candidates`` for ``task``; the verified layouts of each.
 
     ``200 × seeds`` random layouts per candidate are screened by the kernel;
@@ -358,7 +359,11 @@ def dimension(task: CurveTask, candidates, method: str = "exact", seeds: int = 6
     out: list[Dimensioned] = []
     notes = []
     ids = []
-    for cid, chain in candidates:
+    candidates = list(candidates)
+    clock = Ticker(progress)
+    for k, (cid, chain) in enumerate(candidates, 1):
+        clock.tick(lambda: f"candidate {cid} ({k}/{len(candidates)}): screening {200 * seeds:,} layouts, "
+                           f"polishing {polish}", force=True)
         ids.append(cid)
         try:
             model = Model(chain, task, f"{task.name}: candidate {cid}")
