@@ -6,8 +6,9 @@ import argparse
 import json
 import sys
 
-from domes.cli.common import confirm, progress_printer
+from domes.cli.common import confirm, parallel_options, progress_printer
 from domes.errors import InputError
+from domes.execution import InProcess, executor
 from domes.model.chain import Chain
 from domes.model.mobility import chain_joints
 from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator, check_links
@@ -44,6 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--yes", "-y", action="store_true",
                    help=f"build atlases of {LARGE_ATLAS_LINKS}+ links, or draw pages of more than {LARGE_PAGE} chains, without asking")
+    parallel_options(p, "build the atlas's large levels")
     progress = p.add_mutually_exclusive_group()
     progress.add_argument("--progress", dest="progress", action="store_true", default=None, help="show progress on stderr")
     progress.add_argument("--no-progress", dest="progress", action="store_false", help="never show progress")
@@ -100,8 +102,10 @@ def run_chains(args: argparse.Namespace) -> int:
     check_links(links)
     if links >= LARGE_ATLAS_LINKS:
         _confirm_large(links, args.dof, args.include_fractionated, args.yes)
-    generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress))
-    graphs = generator.chains(links, args.dof, args.include_fractionated)
+    with executor(args.workers, args.scheduler) as run:
+        generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress),
+                                   executor=None if isinstance(run, InProcess) else run)
+        graphs = generator.chains(links, args.dof, args.include_fractionated)
     atlas = [Chain(n, edges) for n, edges in graphs]
     if args.count:
         print(len(atlas))

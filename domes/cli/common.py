@@ -12,6 +12,7 @@ import argparse
 import sys
 
 from domes.errors import InputError
+from domes.execution import SCHEDULER_VARIABLE
 from domes.io.files import write_atomic
 from domes.results import Progress
 from domes.store.casebase import DB_ENV
@@ -29,6 +30,16 @@ def progress_printer(enabled: bool | None = None) -> Progress | None:
 #: The help text of every --db option.
 DB_HELP = (f"SQLAlchemy URL or SQLite file of the case base (default: ${DB_ENV}, else your case base, "
            "made from the embedded casebase.db when you first change something)")
+
+
+def parallel_options(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--workers N`` and ``--scheduler ADDRESS`` (see :mod:`domes.execution`): where ``what`` runs."""
+    parser.add_argument("--workers", type=int, default=None, metavar="N",
+                        help=f"{what} on a local Dask cluster of N worker processes (default: in this process; the "
+                        "result is the same)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help=f"{what} on an existing Dask cluster, e.g. tcp://host:8786 (default: "
+                        f"${SCHEDULER_VARIABLE} if set)")
 
 
 def db_option() -> argparse.ArgumentParser:

@@ -13,12 +13,12 @@ import argparse
 import json
 import math
 import sys
-from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from domes.cli.common import confirm, progress_printer, write_output
+from domes.cli.common import confirm, parallel_options, progress_printer, write_output
 from domes.errors import InputError
+from domes.execution import InProcess, executor
 from domes.io.atlas import atlas_path, default_atlas, load_atlas, save_atlas
 from domes.io.curves import read_path, read_points
 from domes.io.files import check_target
@@ -81,8 +81,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.add_argument("--open", action="store_true", help="the atlas's index of open paths (windows of its curves)")
     q.add_argument("--file", help="an atlas file instead of the one in your data folder")
     q.add_argument("--yes", "-y", action="store_true", help="build the large atlas without asking")
-    q.add_argument("--workers", type=int, default=1, metavar="N",
-                   help="share the linkages among N processes (default 1; the atlas is the same)")
+    parallel_options(q, "trace the linkages")
     _progress(q)
     q.set_defaults(func=run_atlas)
 
@@ -251,20 +250,15 @@ def run_atlas(args) -> int:
         check_target(where)
     if args.size == "large":
         confirm("curves atlas build", "the large atlas takes a few minutes and a few hundred MB", args.yes)
-    if args.workers < 1:
-        raise InputError(f"--workers {args.workers}: give at least 1")
     make = build_windows if args.open else build
-    if args.workers == 1:
-        table = make(SIZES[args.size], progress)
-    else:
-        with ProcessPoolExecutor(max_workers=args.workers) as pool:
-            table = make(SIZES[args.size], progress, pool)
+    with executor(args.workers, args.scheduler) as run:
+        table = make(SIZES[args.size], progress, None if isinstance(run, InProcess) else run)
+        ran_on = run.where
     if not args.file:
         atlas_path(args.size, kind).parent.mkdir(parents=True, exist_ok=True)
     save_atlas(table, where)
     print(f"{where}: {table.count:,} {'windows' if args.open else 'curves'} of {len(table.linkages):,} four-bars, "
-          f"built in {table.meta['seconds']:.1f} s"
-          + (f" by {args.workers} workers" if args.workers > 1 else ""))
+          f"built in {table.meta['seconds']:.1f} s {ran_on}")
     return 0
 
 

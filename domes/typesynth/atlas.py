@@ -33,6 +33,7 @@ group of ``H`` is tried, so little work is repeated.
 
 from __future__ import annotations
 
+import pickle
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -83,6 +84,70 @@ def _glue(base: Graph, u: int, block: Graph, c: int, k: int) -> Graph:
     return n0 + nb + k - 1, edges
 
 
+def graph_key(graph: Graph, isomorphism: str) -> object:
+    """The duplicate-removal key of a graph: nauty's certificate (exact) or the characteristic polynomial."""
+    n, edges = graph
+    if isomorphism == "nauty":
+        return certificate(n, edges)
+    return (n, characteristic_polynomial(n, edges))
+
+
+def ears(task: tuple) -> list[tuple[object, bytes]]:
+    """``(key, packed child)`` of every chain made by adding an ear of ``k`` binary links to each parent of the
+    task ``(parents, k, isomorphism, canonical)``, one pair of links per orbit, children that would hold a rigid
+    sub-chain left out, each key once: the unit of work a worker runs. Children are packed (:func:`pack`) to
+    travel light, and with ``canonical`` (nauty keys only) already in nauty's canonical labelling, so that the
+    merge has no labelling left to do."""
+    parents, k, isomorphism, canonical = task
+    out: dict[object, bytes] = {}
+    for n, edges in parents:
+        slack = pair_slack(n, edges)
+        ok = np.argwhere(np.triu(slack >= 3 - k, 1))
+        if not len(ok):
+            continue
+        pairs = [(int(u), int(v)) for u, v in ok]
+        for u, v in automorphisms(n, edges).pair_orbit_representatives(pairs):
+            child = _add_branch((n, edges), u, v, k)
+            key = graph_key(child, isomorphism)
+            if key not in out:
+                out[key] = pack((child[0], canonical_form(*child)[1]) if canonical else child)
+    return list(out.items())
+
+
+def ears_of_slice(task: tuple) -> bytes:
+    """:func:`ears` of the parents ``start:stop`` of a pickled tuple of parents, pickled: the task sent to a
+    worker. Its arguments and result are single byte strings, which Dask passes on fast (a list of many small
+    byte strings it sends one frame each: seconds per level)."""
+    blob, start, stop, k, isomorphism, canonical = task
+    return pickle.dumps(ears((pickle.loads(blob)[start:stop], k, isomorphism, canonical)),
+                        protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def canonical_slice(task: tuple) -> bytes:
+    """The packed canonical forms of the graphs ``start:stop`` of a pickled list of packed graphs, pickled: the
+    second task of a parallel level (each distinct child labelled once, wherever it was found)."""
+    blob, start, stop = task
+    return pickle.dumps([pack((g[0], canonical_form(*g)[1])) for g in map(unpack, pickle.loads(blob)[start:stop])],
+                        protocol=pickle.HIGHEST_PROTOCOL)
+
+
+def pack(graph: Graph) -> bytes:
+    """A graph as bytes (its link count, then its joints' link pairs), for the trip back from a worker."""
+    n, edges = graph
+    return bytes([n]) + np.asarray(edges, dtype=np.uint8).tobytes()
+
+
+def unpack(data: bytes) -> Graph:
+    pairs = np.frombuffer(data[1:], dtype=np.uint8).reshape(-1, 2)
+    return data[0], tuple((int(u), int(v)) for u, v in pairs)
+
+
+#: Levels with at least this many parents go to the executor, in this many tasks per worker (more tasks balance
+#: the load; fewer find fewer chains twice).
+PARALLEL_PARENTS = 256
+TASKS_PER_WORKER = 2
+
+
 def check_links(links: int) -> None:
     """Refuse atlases beyond :data:`~domes.model.rigidity.MAX_LINKS` links, which no machine can build."""
     if links > MAX_LINKS:
@@ -97,6 +162,10 @@ class ChainGenerator:
     One generator shares its intermediate atlases between requests, so a
     second request is immediate. ``isomorphism`` is the speed/accuracy knob:
     ``"nauty"`` (exact, default) or ``"charpoly"`` (the book's test, inexact).
+    ``executor`` (see :mod:`domes.execution`) runs the large levels' ears in
+    parallel, partitioned by parent, the children packed; they are merged in
+    the parents' order, and the atlas is canonically relabelled and sorted
+    after, so it is the same.
 
     >>> gen = ChainGenerator()
     >>> len(gen.chains(links=7, dof=2)), len(gen.chains(links=7, dof=2, include_fractionated=True))
@@ -105,6 +174,7 @@ class ChainGenerator:
 
     isomorphism: str = "nauty"
     progress: Progress | None = None
+    executor: object = None
     _blocks: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
     _all: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
     _clock: Ticker = field(init=False, repr=False)
@@ -132,16 +202,14 @@ class ChainGenerator:
     # -- internals ----------------------------------------------------------
 
     def _key(self, graph: Graph) -> object:
-        n, edges = graph
-        if self.isomorphism == "nauty":
-            return certificate(n, edges)
-        return (n, characteristic_polynomial(n, edges))
+        return graph_key(graph, self.isomorphism)
 
-    def _finish(self, found: dict[object, Graph]) -> list[Graph]:
-        """Canonically relabel and sort (by link assortment, then certificate)."""
+    def _finish(self, found: dict[object, Graph], canonical=frozenset()) -> list[Graph]:
+        """Canonically relabel and sort (by link assortment, then certificate); the graphs of the keys in
+        ``canonical`` (nauty certificates) are canonically labelled already."""
         out = []
-        for n, edges in found.values():
-            cert, canon = canonical_form(n, edges)
+        for key, (n, edges) in found.items():
+            cert, canon = (key, edges) if key in canonical else canonical_form(n, edges)
             degrees = np.bincount(np.array(canon).ravel(), minlength=n)
             assortment = tuple(-c for c in np.bincount(degrees)[2:])
             out.append((assortment, cert, (n, canon)))
@@ -157,26 +225,57 @@ class ChainGenerator:
             result = [_cycle(dof + 3)]
         else:
             found: dict[object, Graph] = {}
+            labelled = self.isomorphism == "nauty"        # workers label the distinct children canonically
+            canonical: set = set()                        # the keys whose graph is canonically labelled
+            raw: dict[object, bytes] = {}                 # children found by workers, packed, not yet labelled
             for k in range(dof + 2):
                 parents = self._two_connected(loops - 1, dof + 2 - k)
-                for index, parent in enumerate(parents):
-                    self._clock.tick(lambda: f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on parent {index + 1}/{len(parents)}, {len(found)} chains so far")
-                    self._add_ears(parent, k, found)
-            result = self._finish(found)
+                if self.executor is not None and len(parents) >= PARALLEL_PARENTS:
+                    size = -(-len(parents) // (TASKS_PER_WORKER * getattr(self.executor, "workers", 1)))
+                    blob = self.executor.share(pickle.dumps(tuple(parents), protocol=pickle.HIGHEST_PROTOCOL))
+                    tasks = [(blob, i, i + size, k, self.isomorphism, False) for i in range(0, len(parents), size)]
+                    where = f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on {len(parents):,} parents"
+                    for result in self.executor.map(ears_of_slice, tasks, progress=self._progress(where)):
+                        for cert, packed in pickle.loads(result):
+                            if cert not in found:
+                                found[cert] = None
+                                raw[cert] = packed
+                else:
+                    for index, parent in enumerate(parents):
+                        self._clock.tick(lambda: f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on parent {index + 1}/{len(parents)}, {len(found)} chains so far")
+                        for cert, packed in ears(((parent,), k, self.isomorphism, False)):
+                            if cert not in found:
+                                found[cert] = unpack(packed)
+            if raw:
+                self._label(raw, found, canonical if labelled else None)
+            result = self._finish(found, canonical)
         self._blocks[key] = result
         self._clock.tick(lambda: f"{2 * loops + dof + 1} links, DOF {dof}, {loops} loops: {len(result)} chains without a cut link", force=True)
         return result
 
-    def _add_ears(self, parent: Graph, k: int, found: dict[object, Graph]) -> None:
-        n, edges = parent
-        slack = pair_slack(n, edges)
-        ok = np.argwhere(np.triu(slack >= 3 - k, 1))
-        if not len(ok):
+    def _label(self, raw: dict[object, bytes], found: dict, canonical: set | None) -> None:
+        """Unpack the children workers found into ``found``; with nauty keys (``canonical`` a set), label them
+        canonically on the workers first, each once, and note their keys in ``canonical``."""
+        certs = list(raw)
+        if canonical is None:
+            for cert in certs:
+                found[cert] = unpack(raw[cert])
             return
-        pairs = [(int(u), int(v)) for u, v in ok]
-        for u, v in automorphisms(n, edges).pair_orbit_representatives(pairs):
-            child = _add_branch(parent, u, v, k)
-            found.setdefault(self._key(child), child)
+        size = -(-len(certs) // (TASKS_PER_WORKER * getattr(self.executor, "workers", 1)))
+        blob = self.executor.share(pickle.dumps([raw[c] for c in certs], protocol=pickle.HIGHEST_PROTOCOL))
+        tasks = [(blob, i, i + size) for i in range(0, len(certs), size)]
+        done = 0
+        for result in self.executor.map(canonical_slice, tasks, progress=self._progress("labelling")):
+            for packed in pickle.loads(result):
+                found[certs[done]] = unpack(packed)
+                canonical.add(certs[done])
+                done += 1
+
+    def _progress(self, where: str):
+        """A progress callback that prefixes ``where`` (None without progress)."""
+        if self.progress is None:
+            return None
+        return lambda message: self.progress(f"{where}: {message}")
 
     def _all_chains(self, loops: int, dof: int) -> list[Graph]:
         """All chains, with or without a cut link."""
@@ -250,7 +349,7 @@ class Atlas(Listing):
 
 
 def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism: str = "nauty",
-           progress: Progress | None = None, generator: ChainGenerator | None = None) -> Atlas:
+           progress: Progress | None = None, generator: ChainGenerator | None = None, executor=None) -> Atlas:
     """Every non-isomorphic, non-degenerate chain of planar motion with revolute joints (some graphs non-planar).
 
     Chains with a cut link (fractionated) are left out unless
@@ -259,7 +358,9 @@ def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism
     assortment. ``isomorphism`` is the knob (``nauty`` exact, ``charpoly``
     the book's inexact test); ``progress`` receives a line now and then;
     ``generator`` (a :class:`ChainGenerator`) keeps the atlases built, for
-    callers that ask again; by default each call builds its own.
+    callers that ask again; by default each call builds its own;
+    ``executor`` (:mod:`domes.execution`) runs the large levels in parallel
+    (same atlas).
 
     >>> len(chains(links=10, dof=1))
     230
@@ -267,7 +368,7 @@ def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism
     40
     """
     if generator is None:
-        generator = ChainGenerator(isomorphism=isomorphism, progress=progress)
+        generator = ChainGenerator(isomorphism=isomorphism, progress=progress, executor=executor)
     elif generator.isomorphism != isomorphism:
         raise InputError(f"the generator removes duplicates by {generator.isomorphism!r}, not {isomorphism!r}")
     found = tuple(Chain(n, edges) for n, edges in generator.chains(links, dof, include_fractionated))

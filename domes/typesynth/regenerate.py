@@ -31,7 +31,7 @@ from domes.language.evaluate import graph_features
 from domes.model.chain import Chain
 from domes.model.labelled import LabelledChain
 from domes.results import Progress, Result, Status
-from domes.typesynth.atlas import ChainGenerator
+from domes.typesynth.atlas import ChainGenerator, Graph
 from domes.typesynth.scene import Scene, Stage
 
 
@@ -176,35 +176,51 @@ def particularize(chain: LabelledChain, scene: Scene) -> LabelledChain:
     return chain.with_joint_types(types)
 
 
-def regenerate(scene: Scene, progress: Progress | None = None, generator: ChainGenerator | None = None) -> Regeneration:
+def chain_stages(task: tuple[Scene, Graph, int]) -> list[list[tuple[LabelledChain, int, int]]]:
+    """Every stage of the scene on one chain: per stage, the labelled chains kept, as ``(labelled chain, chain
+    index, |Aut| of the chain)``; the unit of work a worker runs. Two labelled chains of different chains are
+    never isomorphic, so duplicates are removed chain by chain."""
+    scene, (n, edges), index = task
+    chain = LabelledChain.build(n, edges)
+    current = [(chain, index, chain.automorphisms.order)]
+    out = []
+    for stage in scene.stages:
+        following = []
+        seen: set = set()
+        for labelled, _, group_order in current:
+            if stage.is_screen:
+                if _keeps(labelled, stage):
+                    following.append((labelled, index, group_order))
+                continue
+            for links in _orbit_representatives(labelled, _choices(labelled, stage)):
+                child = _assign(labelled, links, stage.role)
+                if _keeps(child, stage) and child.certificate not in seen:
+                    seen.add(child.certificate)
+                    following.append((child, index, group_order))
+        out.append(following)
+        current = following
+    return out
+
+
+def regenerate(scene: Scene, progress: Progress | None = None, generator: ChainGenerator | None = None,
+               executor=None) -> Regeneration:
     """Run every stage of ``scene`` (see the module doc).
 
     ``generator`` is the :class:`~domes.typesynth.atlas.ChainGenerator` whose
-    atlas the scene's chains come from (default: a new one).
+    atlas the scene's chains come from (default: a new one); ``executor``
+    (:mod:`domes.execution`) runs the chains in parallel, one task each; the
+    result is the same.
     """
     graphs = (generator or ChainGenerator()).chains(scene.links, scene.dof, scene.include_fractionated)
     if not graphs:
         raise InputError(f"scene {scene.name!r}: there are no chains with {scene.links} links and DOF {scene.dof}")
     chains = tuple(Chain(n, edges) for n, edges in graphs)
-    # (labelled chain, index of its chain in the atlas, |Aut| of that chain)
-    current = []
-    for index, (n, edges) in enumerate(graphs, 1):
-        chain = LabelledChain.build(n, edges)
-        current.append((chain, index, chain.automorphisms.order))
+    tasks = [(scene, graph, index) for index, graph in enumerate(graphs, 1)]
+    per_chain = executor.map(chain_stages, tasks) if executor is not None else [chain_stages(t) for t in tasks]
     results = []
+    current: list = list(graphs)
     for number, stage in enumerate(scene.stages):
-        following = []
-        seen: set = set()
-        for chain, index, group_order in current:
-            if stage.is_screen:
-                if _keeps(chain, stage):
-                    following.append((chain, index, group_order))
-                continue
-            for links in _orbit_representatives(chain, _choices(chain, stage)):
-                child = _assign(chain, links, stage.role)
-                if _keeps(child, stage) and child.certificate not in seen:
-                    seen.add(child.certificate)
-                    following.append((child, index, group_order))
+        following = [item for stages in per_chain for item in stages[number]]
         if not following and current and not stage.is_screen:
             raise EmptyStage(
                 f"{scene.path}:{stage.line}: stage {number + 1} ({stage.name}): its rules cannot hold: "

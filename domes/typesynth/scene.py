@@ -23,6 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Iterable
 
+from domes.language.evaluate import compile_criterion
 from domes.language.tree import And, Criterion, ForAll, JointCount, Not
 from domes.model.labelled import LabelledChain
 
@@ -44,6 +45,15 @@ class Stage:
     @property
     def is_screen(self) -> bool:
         return self.select == "screen"
+
+    def __reduce__(self):
+        """Pickled without its compiled tests (closures), compiled again from the rules where it is unpickled:
+        a scene can go to a worker process or machine."""
+        return (_stage, (self.name, self.role, self.select, self.rules, self.rule_text, self.line))
+
+
+def _stage(name, role, select, rules, rule_text, line) -> Stage:
+    return Stage(name, role, select, rules, rule_text, tuple(compile_criterion(t) for t in rules), line)
 
 
 @dataclass(frozen=True)

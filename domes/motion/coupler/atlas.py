@@ -220,6 +220,11 @@ def _open_rows(plane, k, Z, spec):
 _ROWS = {"closed": _closed_rows, "open": _open_rows}
 
 
+def _describe_task(task) -> list:
+    """:func:`_describe_chunk` of a task ``(spec, kind, chunk)``: the unit of work a worker runs."""
+    return _describe_chunk(*task)
+
+
 def _describe_chunk(spec: AtlasSpec, kind: str, chunk) -> list:
     """Per linkage of ``chunk``: the columns of its curves, or None where it cannot be traced (run in a worker)."""
     plane, rows = spec.plane, _ROWS[kind]
@@ -245,8 +250,9 @@ def _describe_all(spec: AtlasSpec, kind: str, progress, executor):
     clock = Ticker(progress)
     what = "" if kind == "closed" else " (open paths)"
     linkages, cols, done = [], {}, 0
+    tasks = [(spec, kind, chunk) for chunk in chunks]
     mapper = map if executor is None else executor.map
-    for chunk, results in zip(chunks, mapper(_describe_chunk, [spec] * len(chunks), [kind] * len(chunks), chunks)):
+    for chunk, results in zip(chunks, mapper(_describe_task, tasks)):
         for lengths, parts in zip(chunk, results):
             done += 1
             if parts is None:

@@ -1,0 +1,129 @@
+"""Where parallel work runs: in this process (the default), on a local Dask cluster, or on an existing one.
+
+Every parallel stage takes an *executor*: anything with ``map(fn, items)``
+that returns ``fn(item)`` for each item, **in the items' order** (so the
+output is the same, byte for byte, whatever ran it and whenever each task
+finished), and ``share(data)``, which sends large data every task reads to
+the workers once (items may hold what it returns). :func:`executor` makes
+one from the user's knobs:
+
+- nothing: :class:`InProcess`, the builtin ``map``, nothing to start;
+- ``workers=N`` (``--workers N``): a Dask ``LocalCluster`` of ``N`` worker
+  processes on this machine, closed on exit;
+- ``scheduler=ADDRESS`` (``--scheduler``, or the ``DOMES_SCHEDULER``
+  environment variable): an existing Dask cluster (``tcp://host:8786``),
+  whose workers must have DOMES-py installed.
+
+``fn`` must be a module-level function (it is sent to the workers by name).
+
+>>> with executor() as run:
+...     run.map(abs, [-2, 1, -3])
+[2, 1, 3]
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Callable, Iterable
+from contextlib import contextmanager
+
+from domes.errors import InputError
+from domes.results import Progress, Ticker
+
+#: The environment variable naming an existing Dask scheduler.
+SCHEDULER_VARIABLE = "DOMES_SCHEDULER"
+
+
+class InProcess:
+    """Runs every task here, one after the other."""
+
+    workers = 1
+    where = "in this process"
+
+    def share(self, data):
+        return data
+
+    def map(self, fn: Callable, items: Iterable, progress: Progress | None = None) -> list:
+        items = list(items)
+        clock = Ticker(progress)
+        out = []
+        for k, item in enumerate(items, 1):
+            out.append(fn(item))
+            clock.tick(lambda: f"{k:,}/{len(items):,} tasks done")
+        return out
+
+
+class DaskExecutor:
+    """Runs tasks on a Dask cluster through ``client``; results come back in the items' order."""
+
+    def __init__(self, client, where: str):
+        self.client = client
+        self.where = where
+
+    @property
+    def workers(self) -> int:
+        return max(1, len(self.client.scheduler_info().get("workers", {})))
+
+    def share(self, data):
+        """``data`` on every worker, once: a future that tasks' items may hold (Dask resolves it there)."""
+        return self.client.scatter(data, broadcast=True, hash=False)
+
+    def map(self, fn: Callable, items: Iterable, progress: Progress | None = None) -> list:
+        from distributed import as_completed
+
+        items = list(items)
+        if not items:
+            return []
+        futures = self.client.map(fn, items, pure=False)
+        clock = Ticker(progress)
+        for k, _ in enumerate(as_completed(futures), 1):
+            clock.tick(lambda: f"{k:,}/{len(items):,} tasks done on {self.where}")
+        results = self.client.gather(futures)
+        for f in futures:
+            f.release()
+        return results
+
+
+@contextmanager
+def executor(workers: int | None = None, scheduler: str | None = None):
+    """The executor for the knobs (see the module's doc); the cluster it starts is closed on exit."""
+    scheduler = scheduler or os.environ.get(SCHEDULER_VARIABLE) or None
+    if workers is not None and (not isinstance(workers, int) or workers < 1):
+        raise InputError(f"--workers must be a whole number of at least 1, got {workers!r}")
+    if scheduler is None and (workers is None or workers == 1):
+        yield InProcess()
+        return
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:                                    # pragma: no cover - dask is a dependency
+        raise InputError("parallel runs need Dask: pip install 'distributed'") from None
+    if scheduler is not None:
+        try:
+            client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} (an address such as "
+                             f"tcp://host:8786): {exc}") from None
+        try:
+            yield DaskExecutor(client, f"the Dask cluster at {scheduler}")
+        finally:
+            client.close()
+        return
+    import dask
+
+    logging.getLogger("distributed").setLevel(logging.ERROR)     # the scheduler runs here: no INFO lines on stderr
+    # Dask's workers return freed memory to the system from 64 kB up (MALLOC_TRIM_THRESHOLD_): on this work,
+    # which makes and drops millions of small graphs, that halves their speed. From 1 GiB up they run as fast as
+    # this process does.
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": 2**30}):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
+                               silence_logs=logging.ERROR)
+    client = Client(cluster)
+    try:
+        yield DaskExecutor(client, f"a local Dask cluster of {workers} workers")
+    finally:
+        client.close()
+        cluster.close()
+
+
+__all__ = ["DaskExecutor", "InProcess", "SCHEDULER_VARIABLE", "executor"]
