@@ -94,11 +94,9 @@ def graph_key(graph: Graph, isomorphism: str) -> object:
 
 def ears(task: tuple) -> list[tuple[object, bytes]]:
     """``(key, packed child)`` of every chain made by adding an ear of ``k`` binary links to each parent of the
-    task ``(parents, k, isomorphism, canonical)``, one pair of links per orbit, children that would hold a rigid
-    sub-chain left out, each key once: the unit of work a worker runs. Children are packed (:func:`pack`) to
-    travel light, and with ``canonical`` (nauty keys only) already in nauty's canonical labelling, so that the
-    merge has no labelling left to do."""
-    parents, k, isomorphism, canonical = task
+    task ``(parents, k, isomorphism)``, one pair of links per orbit, children that would hold a rigid sub-chain
+    left out, each key once. Children are packed (:func:`pack`) to travel light from a worker."""
+    parents, k, isomorphism = task
     out: dict[object, bytes] = {}
     for n, edges in parents:
         slack = pair_slack(n, edges)
@@ -110,7 +108,7 @@ def ears(task: tuple) -> list[tuple[object, bytes]]:
             child = _add_branch((n, edges), u, v, k)
             key = graph_key(child, isomorphism)
             if key not in out:
-                out[key] = pack((child[0], canonical_form(*child)[1]) if canonical else child)
+                out[key] = pack(child)
     return list(out.items())
 
 
@@ -118,8 +116,8 @@ def ears_of_slice(task: tuple) -> bytes:
     """:func:`ears` of the parents ``start:stop`` of a pickled tuple of parents, pickled: the task sent to a
     worker. Its arguments and result are single byte strings, which Dask passes on fast (a list of many small
     byte strings it sends one frame each: seconds per level)."""
-    blob, start, stop, k, isomorphism, canonical = task
-    return pickle.dumps(ears((pickle.loads(blob)[start:stop], k, isomorphism, canonical)),
+    blob, start, stop, k, isomorphism = task
+    return pickle.dumps(ears((pickle.loads(blob)[start:stop], k, isomorphism)),
                         protocol=pickle.HIGHEST_PROTOCOL)
 
 
@@ -162,10 +160,10 @@ class ChainGenerator:
     One generator shares its intermediate atlases between requests, so a
     second request is immediate. ``isomorphism`` is the speed/accuracy knob:
     ``"nauty"`` (exact, default) or ``"charpoly"`` (the book's test, inexact).
-    ``executor`` (see :mod:`domes.execution`) runs the large levels' ears in
-    parallel, partitioned by parent, the children packed; they are merged in
-    the parents' order, and the atlas is canonically relabelled and sorted
-    after, so it is the same.
+    ``executor`` (see :mod:`domes.execution`) runs the large levels in
+    parallel: the ears by slices of parents, then the canonical labelling of
+    the distinct children, each once; the atlas is sorted after, so it is
+    the same.
 
     >>> gen = ChainGenerator()
     >>> len(gen.chains(links=7, dof=2)), len(gen.chains(links=7, dof=2, include_fractionated=True))
@@ -233,7 +231,7 @@ class ChainGenerator:
                 if self.executor is not None and len(parents) >= PARALLEL_PARENTS:
                     size = -(-len(parents) // (TASKS_PER_WORKER * getattr(self.executor, "workers", 1)))
                     blob = self.executor.share(pickle.dumps(tuple(parents), protocol=pickle.HIGHEST_PROTOCOL))
-                    tasks = [(blob, i, i + size, k, self.isomorphism, False) for i in range(0, len(parents), size)]
+                    tasks = [(blob, i, i + size, k, self.isomorphism) for i in range(0, len(parents), size)]
                     where = f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on {len(parents):,} parents"
                     for result in self.executor.map(ears_of_slice, tasks, progress=self._progress(where)):
                         for cert, packed in pickle.loads(result):
@@ -243,7 +241,7 @@ class ChainGenerator:
                 else:
                     for index, parent in enumerate(parents):
                         self._clock.tick(lambda: f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on parent {index + 1}/{len(parents)}, {len(found)} chains so far")
-                        for cert, packed in ears(((parent,), k, self.isomorphism, False)):
+                        for cert, packed in ears(((parent,), k, self.isomorphism)):
                             if cert not in found:
                                 found[cert] = unpack(packed)
             if raw:
