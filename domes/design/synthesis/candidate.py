@@ -294,10 +294,11 @@ class Model:
                 fit = (value - self.wanted) / max(np.ptp(self.wanted), 1.0)
         return {"ok": ok, "root": np.where(ok, root, 0.0), "value": value, "fit": fit, "length": length}
 
-    def residuals(self, rows: np.ndarray) -> np.ndarray:
-        """Least-squares residuals of each layout: the curve error and the penalties, ``(M, r)``."""
+    def residuals(self, rows: np.ndarray, e: dict | None = None) -> np.ndarray:
+        """Least-squares residuals of each layout: the curve error and the penalties, ``(M, r)`` (``e``: the
+        layouts' :meth:`evaluate`, when the caller has it)."""
         rows = np.atleast_2d(rows)
-        e = self.evaluate(rows)
+        e = self.evaluate(rows) if e is None else e
         fit = np.where(e["ok"], e["fit"], 1.0)
         fit = np.where(np.isfinite(fit), fit, 1.0)
         parts = [fit, PENALTY * np.maximum(0.0, math.sin(self.task.min_transmission + MARGIN) - e["root"])]
@@ -391,8 +392,9 @@ def dimension(task: CurveTask, candidates, method: str = "exact", seeds: int = 6
 def _fit(model: Model, rng, screened: int, polish: int) -> list[np.ndarray]:
     """Screen ``screened`` random layouts, polish the best ``polish`` by least squares."""
     rows = model.random(rng, screened)
-    cost = np.sum(model.residuals(rows) ** 2, axis=1)
-    ok = model.evaluate(rows)["ok"].all(axis=1)
+    e = model.evaluate(rows)
+    cost = np.sum(model.residuals(rows, e) ** 2, axis=1)
+    ok = e["ok"].all(axis=1)
     order = np.flatnonzero(ok)[np.argsort(cost[ok])][:polish]
     lo, hi = model.bounds()
     h = 1e-7 * model.task.size
