@@ -9,6 +9,7 @@ import sys
 from domes.cli.common import confirm, parallel_options, progress_printer
 from domes.errors import InputError
 from domes.execution import InProcess, executor
+from domes.io.jobs import JobFolder
 from domes.model.chain import Chain
 from domes.model.mobility import chain_joints
 from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator, check_links
@@ -45,6 +46,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--yes", "-y", action="store_true",
                    help=f"build atlases of {LARGE_ATLAS_LINKS}+ links, or draw pages of more than {LARGE_PAGE} chains, without asking")
+    p.add_argument("--out", metavar="FOLDER",
+                   help="write the atlas (graph6, one chain a line) to FOLDER, with every smaller atlas it is built "
+                   "from as each is finished and the large levels' slices as they come; rerun with the same FOLDER "
+                   "to resume a killed run")
     parallel_options(p, "build the atlas's large levels")
     progress = p.add_mutually_exclusive_group()
     progress.add_argument("--progress", dest="progress", action="store_true", default=None, help="show progress on stderr")
@@ -100,16 +105,26 @@ def run_chains(args: argparse.Namespace) -> int:
     if loops < 1:
         raise InputError(f"{links} links with DOF {args.dof} have {joints} joints and no closed loop; use more links")
     check_links(links)
+    job = None
+    if args.out is not None:
+        if args.format != "text":
+            raise InputError(f"--out writes the atlas as graph6 files to {args.out}; --format {args.format} is for "
+                             "standard output, leave one of them out")
+        job = JobFolder(args.out, {"kind": "chain atlas", "isomorphism": args.isomorphism})
     if links >= LARGE_ATLAS_LINKS:
         _confirm_large(links, args.dof, args.include_fractionated, args.yes)
     with executor(args.workers, args.scheduler) as run:
         generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress),
-                                   executor=None if isinstance(run, InProcess) else run)
+                                   executor=None if isinstance(run, InProcess) else run, checkpoints=job)
         graphs = generator.chains(links, args.dof, args.include_fractionated)
-    atlas = [Chain(n, edges) for n, edges in graphs]
     if args.count:
-        print(len(atlas))
+        print(len(graphs))
         return 0
+    if job is not None:
+        kind = "-with-cut-links" if args.include_fractionated else ""
+        print(f"{len(graphs)} chains of {links} links, DOF {args.dof}: {job.path / f'chains-n{links}-F{args.dof}{kind}.g6'}")
+        return 0
+    atlas = [Chain(n, edges) for n, edges in graphs]
     out = sys.stdout
     if args.format == "html":
         from domes.sketch.atlas import chain_atlas_html

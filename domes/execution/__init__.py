@@ -4,7 +4,9 @@ Every parallel stage takes an *executor*: anything with ``map(fn, items)``
 that returns ``fn(item)`` for each item, **in the items' order** (so the
 output is the same, byte for byte, whatever ran it and whenever each task
 finished), and ``share(data)``, which sends large data every task reads to
-the workers once (items may hold what it returns). :func:`executor` makes
+the workers once (items may hold what it returns); ``completed(fn, items)``
+yields ``(index, result)`` pairs as tasks finish, for stages that write
+each result as it comes. :func:`executor` makes
 one from the user's knobs:
 
 - nothing: :class:`InProcess`, the builtin ``map``, nothing to start;
@@ -53,6 +55,14 @@ class InProcess:
             clock.tick(lambda: f"{k:,}/{len(items):,} tasks done")
         return out
 
+    def completed(self, fn: Callable, items: Iterable, progress: Progress | None = None):
+        """``(index, fn(item))`` for each item, as each finishes (here: in order)."""
+        items = list(items)
+        clock = Ticker(progress)
+        for k, item in enumerate(items):
+            yield k, fn(item)
+            clock.tick(lambda: f"{k + 1:,}/{len(items):,} tasks done")
+
 
 class DaskExecutor:
     """Runs tasks on a Dask cluster through ``client``; results come back in the items' order."""
@@ -83,6 +93,28 @@ class DaskExecutor:
         for f in futures:
             f.release()
         return results
+
+    def completed(self, fn: Callable, items: Iterable, progress: Progress | None = None):
+        """``(index, fn(item))`` for each item, in the order the tasks finish."""
+        from distributed import as_completed
+
+        items = list(items)
+        if not items:
+            return
+        futures = self.client.map(fn, items, pure=False)
+        index = {f.key: k for k, f in enumerate(futures)}
+        pending = dict(zip(index, futures))
+        clock = Ticker(progress)
+        try:
+            for done, future in enumerate(as_completed(futures), 1):
+                result = future.result()
+                del pending[future.key]
+                future.release()
+                yield index[future.key], result
+                clock.tick(lambda: f"{done:,}/{len(items):,} tasks done on {self.where}")
+        finally:
+            if pending:                                  # stopped early: the rest is not wanted
+                self.client.cancel(list(pending.values()))
 
 
 @contextmanager

@@ -43,6 +43,7 @@ from domes.model.canon import automorphisms, canonical_form, certificate
 from domes.model.chain import Chain
 from domes.model.charpoly import characteristic_polynomial
 from domes.model.mobility import chain_joints
+from domes.model.pebble import decode_graph6, encode_graph6
 from domes.model.rigidity import MAX_LINKS, pair_slack
 from domes.results import Listing, Progress, Status, Ticker
 
@@ -144,6 +145,17 @@ def unpack(data: bytes) -> Graph:
 #: the load; fewer find fewer chains twice).
 PARALLEL_PARENTS = 256
 TASKS_PER_WORKER = 2
+#: With checkpoints, slices have at most this many parents (about a second of work each), so that a killed run
+#: loses little.
+CHECKPOINT_PARENTS = 1000
+
+
+def _completed_here(fn, items, progress=None):
+    """``(index, fn(item))`` in order, here: the executor-less :meth:`completed`."""
+    clock = Ticker(progress)
+    for k, item in enumerate(items):
+        yield k, fn(item)
+        clock.tick(lambda: f"{k + 1:,}/{len(items):,} slices done")
 
 
 def check_links(links: int) -> None:
@@ -163,7 +175,11 @@ class ChainGenerator:
     ``executor`` (see :mod:`domes.execution`) runs the large levels in
     parallel: the ears by slices of parents, then the canonical labelling of
     the distinct children, each once; the atlas is sorted after, so it is
-    the same.
+    the same. ``checkpoints`` (a :class:`~domes.io.jobs.JobFolder`, or any
+    store with ``load``, ``save`` and ``discard`` by name) receives every
+    finished atlas as graph6 (``chains-n14-F1.g6``) and the slices of the
+    level under way as they come; a generator given the same store later
+    loads them instead of computing them again.
 
     >>> gen = ChainGenerator()
     >>> len(gen.chains(links=7, dof=2)), len(gen.chains(links=7, dof=2, include_fractionated=True))
@@ -173,6 +189,7 @@ class ChainGenerator:
     isomorphism: str = "nauty"
     progress: Progress | None = None
     executor: object = None
+    checkpoints: object = None
     _blocks: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
     _all: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
     _clock: Ticker = field(init=False, repr=False)
@@ -219,43 +236,93 @@ class ChainGenerator:
         key = (loops, dof)
         if key in self._blocks:
             return self._blocks[key]
+        links = 2 * loops + dof + 1
+        name = f"chains-n{links}-F{dof}"
+        result = None if loops == 1 else self._load_level(name)
         if loops == 1:
             result = [_cycle(dof + 3)]
-        else:
+        elif result is None:
             found: dict[object, Graph] = {}
             labelled = self.isomorphism == "nauty"        # workers label the distinct children canonically
             canonical: set = set()                        # the keys whose graph is canonically labelled
-            raw: dict[object, bytes] = {}                 # children found by workers, packed, not yet labelled
+            raw: dict[object, bytes] = {}                 # children found in slices, packed, not yet labelled
+            sliced = self.executor is not None or self.checkpoints is not None
             for k in range(dof + 2):
                 parents = self._two_connected(loops - 1, dof + 2 - k)
-                if self.executor is not None and len(parents) >= PARALLEL_PARENTS:
-                    size = -(-len(parents) // (TASKS_PER_WORKER * getattr(self.executor, "workers", 1)))
-                    blob = self.executor.share(pickle.dumps(tuple(parents), protocol=pickle.HIGHEST_PROTOCOL))
-                    tasks = [(blob, i, i + size, k, self.isomorphism) for i in range(0, len(parents), size)]
-                    where = f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on {len(parents):,} parents"
-                    for result in self.executor.map(ears_of_slice, tasks, progress=self._progress(where)):
-                        for cert, packed in pickle.loads(result):
+                if sliced and len(parents) >= PARALLEL_PARENTS:
+                    for blob in self._ears_by_slices(parents, k, f"{name}-k{k}"):
+                        for cert, packed in pickle.loads(blob):
                             if cert not in found:
                                 found[cert] = None
                                 raw[cert] = packed
                 else:
                     for index, parent in enumerate(parents):
-                        self._clock.tick(lambda: f"{2 * loops + dof + 1} links, DOF {dof}: ear k={k} on parent {index + 1}/{len(parents)}, {len(found)} chains so far")
+                        self._clock.tick(lambda: f"{links} links, DOF {dof}: ear k={k} on parent {index + 1}/{len(parents)}, {len(found)} chains so far")
                         for cert, packed in ears(((parent,), k, self.isomorphism)):
                             if cert not in found:
                                 found[cert] = unpack(packed)
             if raw:
                 self._label(raw, found, canonical if labelled else None)
             result = self._finish(found, canonical)
+            self._save_level(name, result)
         self._blocks[key] = result
-        self._clock.tick(lambda: f"{2 * loops + dof + 1} links, DOF {dof}, {loops} loops: {len(result)} chains without a cut link", force=True)
+        self._clock.tick(lambda: f"{links} links, DOF {dof}, {loops} loops: {len(result)} chains without a cut link", force=True)
         return result
 
+    def _ears_by_slices(self, parents: list[Graph], k: int, name: str) -> list[bytes]:
+        """The :func:`ears_of_slice` results of ``parents`` cut into slices, in slice order: on the executor (or
+        here), each written to the checkpoints as it comes and loaded from them if an earlier run wrote it."""
+        slices = TASKS_PER_WORKER * getattr(self.executor, "workers", 1)
+        if self.checkpoints is not None:
+            slices = max(slices, -(-len(parents) // CHECKPOINT_PARENTS))
+            plan = self.checkpoints.load(f"parts/{name}.plan")     # an earlier run's slices win (other workers)
+            if plan is None:
+                self.checkpoints.save(f"parts/{name}.plan", b"%d\n" % slices)
+            else:
+                slices = int(plan)
+        size = -(-len(parents) // slices)
+        bounds = [(i, min(i + size, len(parents))) for i in range(0, len(parents), size)]
+        blobs: list[bytes | None] = [None] * len(bounds)
+        if self.checkpoints is not None:
+            blobs = [self.checkpoints.load(f"parts/{name}-{a}-{b}.ears") for a, b in bounds]
+        todo = [j for j, blob in enumerate(blobs) if blob is None]
+        if not todo:
+            return blobs
+        data = pickle.dumps(tuple(parents), protocol=pickle.HIGHEST_PROTOCOL)
+        shared = data if self.executor is None else self.executor.share(data)
+        tasks = [(shared, *bounds[j], k, self.isomorphism) for j in todo]
+        where = f"{name}: ear k={k} on {len(parents):,} parents in {len(bounds)} slices"
+        if len(todo) < len(bounds):
+            where += f" ({len(bounds) - len(todo)} written by an earlier run)"
+        completed = self.executor.completed if self.executor is not None else _completed_here
+        for i, blob in completed(ears_of_slice, tasks, progress=self._progress(where)):
+            j = todo[i]
+            blobs[j] = blob
+            if self.checkpoints is not None:
+                self.checkpoints.save(f"parts/{name}-{bounds[j][0]}-{bounds[j][1]}.ears", blob)
+        return blobs
+
+    def _load_level(self, name: str) -> list[Graph] | None:
+        """A finished atlas an earlier run wrote to the checkpoints (graph6, one chain a line), or None."""
+        if self.checkpoints is None:
+            return None
+        data = self.checkpoints.load(f"{name}.g6")
+        if data is None:
+            return None
+        graphs = [decode_graph6(line) for line in data.decode("ascii").split()]
+        return [(n, tuple(sorted(edges))) for n, edges in graphs]
+
+    def _save_level(self, name: str, result: list[Graph]) -> None:
+        if self.checkpoints is None:
+            return
+        self.checkpoints.save(f"{name}.g6", "".join(encode_graph6(n, e) + "\n" for n, e in result).encode("ascii"))
+        self.checkpoints.discard(f"parts/{name}-")
+
     def _label(self, raw: dict[object, bytes], found: dict, canonical: set | None) -> None:
-        """Unpack the children workers found into ``found``; with nauty keys (``canonical`` a set), label them
-        canonically on the workers first, each once, and note their keys in ``canonical``."""
+        """Unpack the children found in slices into ``found``; with nauty keys (``canonical`` a set) and an
+        executor, label them canonically on the workers first, each once, and note their keys in ``canonical``."""
         certs = list(raw)
-        if canonical is None:
+        if canonical is None or self.executor is None:           # here: _finish labels them
             for cert in certs:
                 found[cert] = unpack(raw[cert])
             return
@@ -280,8 +347,13 @@ class ChainGenerator:
         key = (loops, dof)
         if key in self._all:
             return self._all[key]
-        found: dict[object, Graph] = {self._key(g): g for g in self._two_connected(loops, dof)}
         links = 2 * loops + dof + 1
+        name = f"chains-n{links}-F{dof}-with-cut-links"
+        saved = self._load_level(name)
+        if saved is not None:
+            self._all[key] = saved
+            return saved
+        found: dict[object, Graph] = {self._key(g): g for g in self._two_connected(loops, dof)}
         # G = G0 (any chain) + leaf block B + k bridging joints;
         # loops add up, DOF: F = F0 + FB + k, with F0, FB >= 1.
         for loops_b in range(1, loops):
@@ -302,6 +374,7 @@ class ChainGenerator:
                                     child = _glue(base, u, block, c, k)
                                     found.setdefault(self._key(child), child)
         result = self._finish(found)
+        self._save_level(name, result)
         self._all[key] = result
         self._clock.tick(lambda: f"{links} links, DOF {dof}: {len(result)} chains in all", force=True)
         return result

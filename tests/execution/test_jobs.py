@@ -1,0 +1,118 @@
+"""Job folders: results written as they come, and a killed run resumed to the same files (issue 17).
+
+The chain atlas is the job: every finished atlas goes to the folder as
+graph6, the slices of the level under way as they come. A run stopped
+after some slices (by an error in the store, or by SIGKILL from outside)
+and run again with the same folder must leave the files an uninterrupted
+run leaves, byte for byte.
+"""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from domes.errors import InputError
+from domes.io.jobs import JobFolder
+from domes.typesynth.atlas import ChainGenerator, chains
+
+DOMES = [sys.executable, "-m", "domes"]
+SPEC = {"kind": "chain atlas", "isomorphism": "nauty"}
+
+
+class Stop(Exception):
+    pass
+
+
+class FailingFolder(JobFolder):
+    """A job folder whose writes fail after ``budget`` slices of the atlas ``level``: the run stops, as if killed."""
+
+    def __init__(self, path, spec, level, budget):
+        super().__init__(path, spec)
+        self.level, self.budget = level, budget
+
+    def save(self, name, data):
+        if name.startswith(f"parts/{self.level}-") and name.endswith(".ears"):
+            if self.budget == 0:
+                raise Stop(name)
+            self.budget -= 1
+        super().save(name, data)
+
+
+def files(folder: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def test_checkpointed_atlas_is_the_plain_one_and_is_loaded_again(tmp_path, monkeypatch):
+    job = JobFolder(tmp_path / "job", SPEC)
+    atlas = ChainGenerator(checkpoints=job).chains(12, 1)
+    assert atlas == ChainGenerator().chains(12, 1)
+    written = files(tmp_path / "job")
+    assert [line for line in written["chains-n12-F1.g6"].decode().split()] == [c.graph6 for c in chains(12, 1)]
+    assert not [name for name in written if name.startswith("parts/")]       # slices dropped once a level is done
+    ten = ChainGenerator().chains(10, 1)
+    monkeypatch.setattr("domes.typesynth.atlas.ears", None)                    # nothing may be computed again
+    again = ChainGenerator(checkpoints=JobFolder(tmp_path / "job", SPEC))
+    assert again.chains(12, 1) == atlas and again.chains(10, 1) == ten
+    with pytest.raises(TypeError):                                            # ... but a size not on disk is
+        again.chains(13, 2)
+
+
+def test_interrupted_run_resumes_to_the_same_files(tmp_path):
+    ChainGenerator(checkpoints=JobFolder(tmp_path / "whole", SPEC)).chains(12, 1)
+    with pytest.raises(Stop):
+        ChainGenerator(checkpoints=FailingFolder(tmp_path / "resumed", SPEC, "chains-n12-F1-k1", 1)).chains(12, 1)
+    partial = files(tmp_path / "resumed")
+    kept = sorted(name for name in partial if name.endswith(".ears"))        # earlier levels' slices are gone
+    assert len(kept) >= 2 and "chains-n12-F1.g6" not in partial              # slices of k=0 and one of k=1
+    seen = []
+
+    class Watching(JobFolder):
+        def load(self, name):
+            data = super().load(name)
+            if name.endswith(".ears") and data is not None:
+                seen.append(name)
+            return data
+
+    ChainGenerator(checkpoints=Watching(tmp_path / "resumed", SPEC)).chains(12, 1)
+    assert sorted(seen) == kept                                              # the slices on disk were not redone
+    assert files(tmp_path / "resumed") == files(tmp_path / "whole")
+
+
+def test_job_folder_refuses_another_job_and_stray_folders(tmp_path):
+    JobFolder(tmp_path / "job", SPEC)
+    with pytest.raises(InputError, match="holds another job"):
+        JobFolder(tmp_path / "job", {**SPEC, "isomorphism": "charpoly"})
+    (tmp_path / "full").mkdir()
+    (tmp_path / "full" / "notes.txt").write_text("mine")
+    with pytest.raises(InputError, match="not empty and holds no job.json"):
+        JobFolder(tmp_path / "full", SPEC)
+    with pytest.raises(InputError, match="does not exist"):
+        JobFolder(tmp_path / "no" / "such", SPEC)
+    with pytest.raises(InputError, match="inside the job folder"):
+        JobFolder(tmp_path / "job", SPEC).load("../notes.txt")
+
+
+@pytest.mark.slow
+def test_killed_command_resumes_to_the_same_files(tmp_path):
+    # A real kill: SIGKILL to `domes chains --out` on two workers once the first slices are on disk; rerun in
+    # this process (other workers: the slices an earlier run planned are kept).
+    args = [*DOMES, "chains", "--links", "13", "--dof", "2", "--no-progress"]
+    subprocess.run([*args, "--out", str(tmp_path / "whole")], check=True, capture_output=True)
+    killed = subprocess.Popen([*args, "--out", str(tmp_path / "killed"), "--workers", "2"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    parts = tmp_path / "killed" / "parts"
+    deadline = time.monotonic() + 120
+    while not (parts.is_dir() and any(parts.glob("chains-n13-F2-*.ears"))):
+        assert killed.poll() is None and time.monotonic() < deadline, "the run ended before a slice was written"
+        time.sleep(0.02)
+    os.killpg(killed.pid, signal.SIGKILL)
+    killed.wait()
+    assert not (tmp_path / "killed" / "chains-n13-F2.g6").exists()
+    out = subprocess.run([*args, "--out", str(tmp_path / "killed")], check=True, capture_output=True, text=True)
+    assert out.stdout.startswith(f"{len(chains(13, 2))} chains of 13 links, DOF 2: ")
+    assert files(tmp_path / "killed") == files(tmp_path / "whole")
