@@ -4,22 +4,21 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 
-from domes.cli.common import confirm, parallel_options, progress_printer
+from domes.cli.common import available_memory, confirm, parallel_options, progress_printer
 from domes.errors import InputError
 from domes.execution import InProcess, executor
 from domes.io.jobs import JobFolder
 from domes.model.chain import Chain
 from domes.model.mobility import chain_joints
-from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator, check_links
+from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator, check_links, forecast
 
 #: Atlases from this many links on are very large: ask before building them.
 LARGE_ATLAS_LINKS = 14
 #: Pages of more drawn chains than this are made only when the user agrees (--yes).
 LARGE_PAGE = 1000
-#: Rough growth of an atlas per two more links (measured: 230 -> 6856 one-DOF chains).
-GROWTH_PER_TWO_LINKS = 30
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -68,20 +67,30 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.set_defaults(func=run_chain)
 
 
-def _estimate(links: int, dof: int, include_fractionated: bool) -> tuple[float, int, int]:
-    """Roughly how many chains an atlas has: extrapolated from the largest atlas of 10 links or fewer."""
-    base = links
-    while base > 10:
-        base -= 2
-    base_count = len(ChainGenerator().chains(base, dof, include_fractionated)) if base >= 3 else 1
-    return base_count * GROWTH_PER_TWO_LINKS ** ((links - base) // 2), base_count, base
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 3 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.0f} days"
 
 
-def _confirm_large(links: int, dof: int, include_fractionated: bool, yes: bool) -> None:
-    estimate, base_count, base = _estimate(links, dof, include_fractionated)
-    confirm("chains", f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {estimate:.1e} chains "
-            f"(extrapolated from {base_count} chains of {base} links, about x{GROWTH_PER_TWO_LINKS} per two links), "
-            "taking a long time and much memory", yes)
+def _confirm_large(links: int, dof: int, include_fractionated: bool, yes: bool, workers: int = 1) -> None:
+    """Say how large, long and memory-hungry the atlas will likely be, before it starts; go on if the user agrees."""
+    f = forecast(links, dof, include_fractionated)
+    where = "in this process" if workers == 1 else f"on {workers} workers"
+    text = (f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {f.count:.1e} chains ({f.basis}), "
+            f"likely {_duration(f.seconds_on(workers))} {where} and {f.memory / 2**30:.1f} GiB of memory")
+    available = available_memory()
+    cores = os.cpu_count() or 1
+    if available is not None and f.memory > available:
+        text += (f"; this machine has {available / 2**30:.1f} GiB available, so it will not fit (more workers do "
+                 "not help: the merge holds every chain in this process)")
+    elif workers == 1 and cores > 1:
+        text += f"; with --workers {cores}, likely {_duration(f.seconds_on(cores))}"
+    confirm("chains", text, yes)
 
 
 def _text_line(index: int, chain: Chain) -> str:
@@ -112,7 +121,7 @@ def run_chains(args: argparse.Namespace) -> int:
                              "standard output, leave one of them out")
         job = JobFolder(args.out, {"kind": "chain atlas", "isomorphism": args.isomorphism})
     if links >= LARGE_ATLAS_LINKS:
-        _confirm_large(links, args.dof, args.include_fractionated, args.yes)
+        _confirm_large(links, args.dof, args.include_fractionated, args.yes, 1 if args.scheduler else args.workers or 1)
     with executor(args.workers, args.scheduler) as run:
         generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress),
                                    executor=None if isinstance(run, InProcess) else run, checkpoints=job)

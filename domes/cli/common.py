@@ -49,6 +49,18 @@ def db_option() -> argparse.ArgumentParser:
     return parent
 
 
+def available_memory() -> int | None:
+    """The memory this machine can give a new run (``MemAvailable``), in bytes; None where it cannot be read."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as info:
+            for line in info:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
 def confirm(command: str, message: str, yes: bool) -> None:
     """Go on with a long run only when the user agrees: ``--yes``, or 'yes' typed at a terminal.
 

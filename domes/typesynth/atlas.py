@@ -34,6 +34,7 @@ group of ``H`` is tried, so little work is repeated.
 from __future__ import annotations
 
 import pickle
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -378,6 +379,83 @@ class ChainGenerator:
         self._all[key] = result
         self._clock.tick(lambda: f"{links} links, DOF {dof}: {len(result)} chains in all", force=True)
         return result
+
+
+#: Rates measured on the reference machine (2 cores; docs/scale.md): a chain costs about this much more time per
+#: two more links (0.29 ms a chain at 12 links, 0.49 ms at 14, one-DOF atlases built from nothing) ...
+COST_GROWTH_PER_TWO_LINKS = 1.7
+#: ... holds about this much memory while its atlas is built (1.69 GiB for the 318,162 chains of 14 links,
+#: ``benchmarks/measure.py``), more for larger chains in proportion to their links ...
+BYTES_PER_CHAIN_14 = 5700
+#: ... and this share of the time stays in this process on a local cluster (the merge, the sort, the small
+#: levels: 18.2 s of 163.9 s at 14 links, ``benchmarks/scale_model.py``): on N workers about T·(s + (1 − s)/N).
+SERIAL_SHARE = 0.11
+#: The largest atlas built to measure the rate here, and the growth assumed when too few sizes are known.
+FORECAST_LINKS = 12
+GROWTH_PER_TWO_LINKS = 30
+
+
+@dataclass(frozen=True)
+class Forecast:
+    """How large and how long an atlas is likely to be, before it is built: see :func:`forecast`."""
+
+    links: int
+    dof: int
+    count: float
+    seconds: float
+    memory: float
+    basis: str
+
+    def seconds_on(self, workers: int) -> float:
+        """The likely time on ``workers`` workers of a local cluster (:data:`SERIAL_SHARE` stays serial)."""
+        return self.seconds * (SERIAL_SHARE + (1 - SERIAL_SHARE) / max(1, workers))
+
+
+def forecast(links: int, dof: int, include_fractionated: bool = False) -> Forecast:
+    """The likely size, time (one process, this machine) and memory of an atlas, from smaller ones built now.
+
+    The three largest atlases of the same parity up to :data:`FORECAST_LINKS`
+    links are built (about two seconds); the count is extrapolated from
+    their growth (the ratio of successive counts grows as it did last), the
+    time from the rate measured on the largest, made
+    :data:`COST_GROWTH_PER_TWO_LINKS` dearer per two links, the memory from
+    :data:`BYTES_PER_CHAIN_14`. Rough (a third off at 14 links), but enough
+    to tell minutes from days.
+
+    >>> f = forecast(10, 1)
+    >>> f.basis.split(";")[0], 100 < f.count < 500
+    ('extrapolated from 2, 16 chains of 6, 8 links', True)
+    """
+    chain_joints(links, dof)                            # a clear error for a size no chain has
+    top = links - 2
+    while top > FORECAST_LINKS:
+        top -= 2
+    sizes = [b for b in (top - 4, top - 2, top) if b >= 3]
+    generator = ChainGenerator()
+    start = time.perf_counter()
+    counts = [len(generator.chains(b, dof, include_fractionated)) if chain_joints(b, dof) - b >= 0 else 0
+              for b in sizes]
+    seconds_top = time.perf_counter() - start
+    known = [(b, c) for b, c in zip(sizes, counts) if c > 0]
+    steps = (links - top) // 2
+    if len(known) >= 2 and known[-1][0] == top:
+        ratios = [c2 / c1 for (_, c1), (_, c2) in zip(known, known[1:])]
+        ratio, growth = ratios[-1], (ratios[-1] / ratios[-2] if len(ratios) > 1 else 1.0)
+        count = float(known[-1][1])
+        for _ in range(steps):
+            ratio *= max(growth, 1.0)
+            count *= ratio
+    else:
+        count = max(1.0, float(counts[-1] if counts else 1)) * GROWTH_PER_TWO_LINKS ** steps
+    rate = seconds_top / max(counts[-1] if counts else 1, 1)
+    seconds = count * rate * COST_GROWTH_PER_TWO_LINKS ** steps
+    memory = 2e8 + count * BYTES_PER_CHAIN_14 * links / 14
+    if len(known) >= 2 and known[-1][0] == top:
+        basis = (f"extrapolated from {', '.join(str(c) for _, c in known)} chains of "
+                 f"{', '.join(str(b) for b, _ in known)} links; the rate measured here on {top} links")
+    else:
+        basis = f"assumed {GROWTH_PER_TWO_LINKS}-fold per two links from {counts[-1] if counts else 1} chains of {top} links"
+    return Forecast(links, dof, count, seconds, memory, basis)
 
 
 @dataclass(frozen=True, repr=False)

@@ -125,3 +125,29 @@ def test_large_atlas_confirmation_on_a_terminal(monkeypatch, answer, built):
     else:
         with pytest.raises(DomesError, match="not run"):
             cli._confirm_large(14, 1, False, yes=False)
+
+
+def test_forecast_is_near_the_built_atlases():
+    # The forecast extrapolates from the three next smaller atlases; checked against the atlases themselves where
+    # those have six links or more, as they have for the large atlases it is made for (1.3x at most here).
+    from domes.typesynth.atlas import chains, forecast
+
+    for links, dof in [(12, 1), (13, 2)]:
+        f = forecast(links, dof)
+        assert 1 / 1.3 < f.count / len(chains(links, dof)) < 1.3, (links, dof, f)
+        assert f.seconds > 0 and f.memory > 0 and f.seconds_on(4) < f.seconds_on(2) < f.seconds
+
+
+def test_large_atlas_says_before_it_starts_when_it_will_not_fit(monkeypatch):
+    from domes.cli import chains as cli
+    from domes.errors import DomesError
+
+    monkeypatch.setattr(sys.stdin, "isatty", lambda: False)
+    monkeypatch.setattr(cli, "available_memory", lambda: 2**30)
+    with pytest.raises(DomesError, match=r"roughly 5\.\de\+07 chains .* GiB of memory; this machine has 1\.0 GiB "
+                                         r"available, so it will not fit.*pass --yes"):
+        cli._confirm_large(16, 1, False, yes=False)
+    monkeypatch.setattr(cli, "available_memory", lambda: 2**40)
+    monkeypatch.setattr(cli.os, "cpu_count", lambda: 8)
+    with pytest.raises(DomesError, match=r"likely \d+ min in this process .*; with --workers 8, likely \d+ s"):
+        cli._confirm_large(14, 1, False, yes=False)
