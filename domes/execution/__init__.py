@@ -87,7 +87,7 @@ class DaskExecutor:
             return []
         futures = self.client.map(fn, items, pure=False)
         clock = Ticker(progress)
-        for k, _ in enumerate(as_completed(futures), 1):
+        for k, _ in enumerate(as_completed(futures, loop=self.client.loop), 1):
             clock.tick(lambda: f"{k:,}/{len(items):,} tasks done on {self.where}")
         results = self.client.gather(futures)
         for f in futures:
@@ -106,7 +106,7 @@ class DaskExecutor:
         pending = dict(zip(index, futures))
         clock = Ticker(progress)
         try:
-            for done, future in enumerate(as_completed(futures), 1):
+            for done, future in enumerate(as_completed(futures, loop=self.client.loop), 1):
                 result = future.result()
                 del pending[future.key]
                 future.release()
@@ -132,7 +132,7 @@ def executor(workers: int | None = None, scheduler: str | None = None):
         raise InputError("parallel runs need Dask: pip install 'distributed'") from None
     if scheduler is not None:
         try:
-            client = Client(scheduler, timeout="10s")
+            client = Client(scheduler, timeout="10s", set_as_default=False)
         except (OSError, TimeoutError, ValueError) as exc:
             raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} (an address such as "
                              f"tcp://host:8786): {exc}") from None
@@ -150,7 +150,7 @@ def executor(workers: int | None = None, scheduler: str | None = None):
     with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": 2**30}):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                                silence_logs=logging.ERROR)
-    client = Client(cluster)
+    client = Client(cluster, set_as_default=False)
     try:
         yield DaskExecutor(client, f"a local Dask cluster of {workers} workers")
     finally:

@@ -422,9 +422,9 @@ def forecast(links: int, dof: int, include_fractionated: bool = False) -> Foreca
     :data:`BYTES_PER_CHAIN_14`. Rough (a third off at 14 links), but enough
     to tell minutes from days.
 
-    >>> f = forecast(10, 1)
-    >>> f.basis.split(";")[0], 100 < f.count < 500
-    ('extrapolated from 2, 16 chains of 6, 8 links', True)
+    >>> f = forecast(12, 1)                         # 6856 chains in fact
+    >>> f.basis.split(";")[0], 5000 < f.count < 8000
+    ('extrapolated from 2, 16, 230 chains of 6, 8, 10 links', True)
     """
     chain_joints(links, dof)                            # a clear error for a size no chain has
     top = links - 2
