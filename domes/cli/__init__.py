@@ -28,6 +28,7 @@ SUBCOMMAND_MODULES = (
     "domes.cli.regenerate",
     "domes.cli.kb",
     "domes.cli.kinematics",
+    "domes.cli.tolerance",
     "domes.cli.curves",
     "domes.cli.synthesize",
     "domes.cli.draw",

@@ -83,3 +83,17 @@ def test_the_default_runs_here_and_bad_knobs_are_refused():
     with pytest.raises(InputError, match="cannot reach the Dask scheduler at 'nonsense'"):
         with executor(scheduler="nonsense"):
             pass
+
+
+def test_seeded_monte_carlo_is_the_same_on_two_workers(cluster):
+    # Tolerance sampling by seeded batches (one SeedSequence child per batch), merged in batch order.
+    from domes.design.tolerance import Tolerancing, monte_carlo
+    from domes.io.mechanisms import load_mechanism
+
+    tol = Tolerancing(load_mechanism(ROOT / "examples/mechanisms/slider-crank.json"), "point:M",
+                      np.radians(np.arange(0.0, 360.0, 15.0)), relative=1e-3)
+    here = monte_carlo(tol, samples=60_000, seed=11, batch_size=7_000)
+    there = monte_carlo(tol, samples=60_000, seed=11, batch_size=7_000, executor=cluster)
+    assert here.batches == there.batches == 9
+    for name in ("mean", "std", "largest"):
+        assert np.array_equal(getattr(here, name), getattr(there, name)), name

@@ -1,0 +1,224 @@
+"""``domes tolerance``: how far a mechanism's output wanders when it is made to tolerances.
+
+>>> import os, tempfile
+>>> from domes.cli import main
+>>> from domes.io.mechanisms import save_mechanism
+>>> from domes.motion.planar.examples import four_bar
+>>> path = os.path.join(tempfile.mkdtemp(), "four-bar.json")
+>>> save_mechanism(four_bar(), path)
+>>> main(["tolerance", path, "--output", "angle:rocker", "--sweep", "0:90:90", "--relative", "1e-4",
+...       "--samples", "20000"])    # doctest: +ELLIPSIS
+# crank-rocker four-bar: angle:rocker (deg) at 2 input values of A; 7 dimensions, normal (σ = tolerance/3)
+#   dimension                 nominal  ± tolerance   share  max |dy/dd|
+    coupler:B-C                   3.5      0.00035 ...
+...
+#   its σ over first order's: ...: the first-order estimate is enough (within 5% of Monte Carlo)
+0
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import sys
+
+import numpy as np
+
+from domes.cli.common import parallel_options, progress_printer
+from domes.cli.kinematics import parse_sweep
+from domes.design.tolerance import DISTRIBUTIONS, Tolerancing, compare, monte_carlo, sensitivity
+from domes.errors import InputError
+from domes.execution import InProcess, executor
+from domes.io.mechanisms import load_mechanism
+
+#: Monte Carlo and first order agree when their standard deviations are this close (the issue's 5%).
+AGREE = 0.05
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "tolerance",
+        help="output error of a mechanism made to tolerances: first order and Monte Carlo, dimensions ranked",
+        description="Tolerance sensitivity (the redesign step): the error of one output over the input's range "
+        "caused by tolerances on the link lengths, pivot positions and slide lines; by first order (derivatives, "
+        "worst case and standard deviation) and by Monte Carlo (seeded batches, on --workers), compared; the "
+        "dimensions ranked by their share; with --allocate, tolerances that keep a wanted accuracy.",
+    )
+    p.add_argument("file", help="mechanism file (JSON; see docs/kinematics.md)")
+    p.add_argument("--output", required=True, metavar="OUT", help="angle:LINK, slide:JOINT or point:NAME")
+    p.add_argument("--sweep", default="0:360:10", metavar="START:STOP:STEP",
+                   help="input values (degrees for an R input; default 0:360:10, the stop left out when it is a "
+                   "full turn)")
+    band = p.add_mutually_exclusive_group(required=True)
+    band.add_argument("--tolerance", type=float, metavar="T", help="± T on every length and position (file units)")
+    band.add_argument("--relative", type=float, metavar="R",
+                      help="± R times each link length (positions: times the mechanism's size)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=T",
+                   help="the tolerance of one dimension (names as listed), repeatable")
+    p.add_argument("--distribution", choices=DISTRIBUTIONS, default="normal",
+                   help="normal: σ = T/3 (default); uniform: anywhere within ± T")
+    p.add_argument("--samples", type=int, default=100_000, help="Monte Carlo samples (default 100000; 0: first order only)")
+    p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0): the same seed, the same numbers")
+    p.add_argument("--allocate", type=float, metavar="ACCURACY",
+                   help="suggest tolerances that keep the output's 3σ (uniform: worst case) within ACCURACY "
+                   "(degrees for an angle)")
+    p.add_argument("--scan", action="store_true",
+                   help="compare first order and Monte Carlo with the tolerances 1, 10, 100 and 1000 times as large")
+    p.add_argument("--format", choices=("text", "csv", "json"), default="text")
+    parallel_options(p, "run the Monte Carlo batches")
+    shown = p.add_mutually_exclusive_group()
+    shown.add_argument("--progress", dest="progress", action="store_true", default=None, help="show progress on stderr")
+    shown.add_argument("--no-progress", dest="progress", action="store_false", help="never show progress")
+    p.set_defaults(func=run)
+
+
+def _overrides(items: list[str]) -> dict:
+    out = {}
+    for item in items:
+        name, sep, value = item.rpartition("=")
+        try:
+            out[name] = float(value)
+        except ValueError:
+            name = ""
+        if not sep or not name:
+            raise InputError(f"--set: expected NAME=TOLERANCE (e.g. crank:A-B=0.001), got {item!r}")
+    return out
+
+
+def run(args: argparse.Namespace) -> int:
+    mech = load_mechanism(args.file)
+    if args.samples < 0:
+        raise InputError(f"--samples must be >= 0, got {args.samples}")
+    joint = mech.inputs[0].joint if mech.inputs else None
+    if joint is None:
+        raise InputError(f"{args.file}: the mechanism has no input")
+    angular = mech.joint(joint).kind == "R"
+    start, stop, step = parse_sweep(args.sweep, math.radians if angular else float)
+    if step is None:
+        raise InputError("--sweep: give START:STOP:STEP")
+    count = int(math.floor((stop - start) / step + 1e-9)) + 1
+    inputs = start + step * np.arange(count)
+    if angular and math.isclose(stop - start, 2 * math.pi) and count > 1:
+        inputs = inputs[:-1]                                   # a full turn: 360 is 0 again
+    tol = Tolerancing(mech, args.output, inputs, tolerance=args.tolerance, relative=args.relative,
+                      tolerances=_overrides(args.set))
+    first = sensitivity(tol, args.distribution)
+    scale = math.degrees(1.0) if args.output.startswith("angle:") else 1.0
+    allocated = first.allocate(args.allocate / scale) if args.allocate is not None else None
+    mc = scan = None
+    with executor(args.workers, args.scheduler) as run_on:
+        where = None if isinstance(run_on, InProcess) else run_on
+        if args.samples >= 2:
+            mc = monte_carlo(tol, args.samples, args.seed, args.distribution, executor=where,
+                             progress=progress_printer(args.progress))
+        if args.scan:
+            scan = compare(tol, samples=min(args.samples, 20_000) or 20_000, seed=args.seed,
+                           distribution=args.distribution, executor=where)
+    doc = _document(args, tol, first, mc, scan, allocated, scale, joint, angular)
+    out = sys.stdout
+    if args.format == "json":
+        json.dump(_finite(doc), out, indent=1)
+        out.write("\n")
+    elif args.format == "csv":
+        writer = csv.writer(out)
+        header = list(doc["inputs"][0])
+        writer.writerow(header)
+        for row in doc["inputs"]:
+            writer.writerow([repr(row[h]) for h in header])
+    else:
+        _text(out, doc)
+    return 0
+
+
+def _document(args, tol, first, mc, scan, allocated, scale, joint, angular) -> dict:
+    unit = "deg" if scale != 1.0 else "length"
+    dims = []
+    slope = np.nanmax(np.abs(first.gradient), axis=(0, 1))
+    for k, d in enumerate(tol.dimensions):
+        row = {"name": d.name, "kind": d.kind, "nominal": d.nominal if d.kind != "angle" else math.degrees(d.nominal),
+               "tolerance": d.tolerance if d.kind != "angle" else math.degrees(d.tolerance),
+               "share": float(first.share[k]),
+               "largest_derivative": float(slope[k] * scale * (math.radians(1.0) if d.kind == "angle" else 1.0))}
+        if allocated is not None:
+            row["allocated"] = float(allocated[k]) if d.kind != "angle" else math.degrees(allocated[k])
+        dims.append(row)
+    dims.sort(key=lambda r: -r["share"])
+    rows = []
+    for c, col in enumerate(tol.columns):
+        for n, q in enumerate(tol.inputs):
+            row = {"column": col, "input": math.degrees(q) if angular else float(q),
+                   "nominal": float(first.nominal[c, n] * scale), "worst_case": float(first.worst[c, n] * scale),
+                   "three_sigma_first_order": float(3 * first.std[c, n] * scale)}
+            if mc is not None:
+                row.update({"three_sigma_monte_carlo": float(3 * mc.std[c, n] * scale),
+                            "largest_monte_carlo": float(mc.largest[c, n] * scale),
+                            "mean_monte_carlo": float(mc.mean[c, n] * scale)})
+            rows.append(row)
+    doc = {"mechanism": tol.mech.name, "file": args.file, "output": tol.output, "unit": unit, "input": joint,
+           "input_unit": "deg" if angular else "length", "distribution": args.distribution,
+           "dimensions": dims, "inputs": rows, "first_order": first.message}
+    if mc is not None:
+        ratio = mc.std / first.std
+        ok = np.isfinite(ratio)
+        doc["monte_carlo"] = {"samples": mc.samples, "seed": mc.seed, "batches": mc.batches, "failed": mc.failed,
+                              "ratio_min": float(np.min(ratio[ok])) if ok.any() else None,
+                              "ratio_max": float(np.max(ratio[ok])) if ok.any() else None,
+                              "agree": bool(ok.any() and np.all(np.abs(ratio[ok] - 1) <= AGREE)),
+                              "message": mc.message}
+    if scan is not None:
+        doc["scan"] = [{"scale": s.scale, "first_order_std": s.first_order * scale, "monte_carlo_std": s.monte_carlo * scale,
+                        "ratio": s.ratio, "failed": s.failed, "agree": bool(abs(s.ratio - 1) <= AGREE)} for s in scan]
+    if allocated is not None:
+        doc["allocate"] = {"accuracy": args.allocate,
+                           "meaning": "3 sigma" if args.distribution == "normal" else "worst case"}
+    return doc
+
+
+def _text(out, doc) -> None:
+    unit = doc["unit"]
+    rows = doc["inputs"]
+    out.write(f"# {doc['mechanism']}: {doc['output']} ({unit}) at {len({r['input'] for r in rows})} input values of "
+              f"{doc['input']}; {len(doc['dimensions'])} dimensions, {doc['distribution']} "
+              f"({'σ = tolerance/3' if doc['distribution'] == 'normal' else 'within ± tolerance'})\n")
+    alloc = "allocate" in doc
+    out.write(f"#   {'dimension':<20s} {'nominal':>12s} {'± tolerance':>12s} {'share':>7s} {'max |dy/dd|':>12s}"
+              + (f" {'suggested ±':>12s}" if alloc else "") + "\n")
+    for d in doc["dimensions"]:
+        out.write(f"    {d['name']:<20s} {d['nominal']:12.6g} {d['tolerance']:12.4g} {100 * d['share']:6.1f}% "
+                  f"{d['largest_derivative']:12.4g}" + (f" {d['allocated']:12.4g}" if alloc else "") + "\n")
+    mc = "monte_carlo" in doc
+    header = ["input", "nominal", "worst case", "3σ first", *(["3σ Monte C.", "largest MC"] if mc else [])]
+    out.write("#" + " ".join(f"{h:>12s}" for h in header) + ("   column" if len({r['column'] for r in rows}) > 1 else "") + "\n")
+    for r in rows:
+        values = [r["input"], r["nominal"], r["worst_case"], r["three_sigma_first_order"]]
+        if mc:
+            values += [r["three_sigma_monte_carlo"], r["largest_monte_carlo"]]
+        out.write(" " + " ".join(f"{v:12.6g}" for v in values)
+                  + (f"   {r['column']}" if len({x['column'] for x in rows}) > 1 else "") + "\n")
+    out.write(f"# first order: {doc['first_order']}\n")
+    if mc:
+        m = doc["monte_carlo"]
+        verdict = ("the first-order estimate is enough (within 5% of Monte Carlo)" if m["agree"]
+                   else "first order and Monte Carlo differ by more than 5%: trust Monte Carlo")
+        out.write(f"# Monte Carlo: {m['message']}\n#   its σ over first order's: {m['ratio_min']:.4f} .. "
+                  f"{m['ratio_max']:.4f}: {verdict}\n")
+    if "scan" in doc:
+        out.write(f"# tolerances scaled: {'scale':>6s} {'σ first':>12s} {'σ Monte C.':>12s} {'ratio':>8s} {'failed':>7s}\n")
+        for s in doc["scan"]:
+            out.write(f"#                    {s['scale']:6g} {s['first_order_std']:12.4g} {s['monte_carlo_std']:12.4g} "
+                      f"{s['ratio']:8.4f} {s['failed']:7d}" + ("" if s["agree"] else "  <- they part") + "\n")
+    if alloc:
+        out.write(f"# suggested tolerances keep the {doc['allocate']['meaning']} within {doc['allocate']['accuracy']:g} "
+                  f"{unit}, each dimension taking an equal part at its worst input\n")
+
+
+def _finite(obj):
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {k: _finite(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [_finite(v) for v in obj]
+    return obj
