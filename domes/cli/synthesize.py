@@ -15,11 +15,12 @@ import argparse
 import json
 import math
 
-from domes.cli.common import progress_printer, write_output
+from domes.cli.common import parallel_options, progress_printer, write_output
 from domes.design.synthesis import synthesize
 from domes.design.synthesis.candidate import Dimensioning
 from domes.design.synthesis.fourbars import SliderCrank
 from domes.design.synthesis.solve import generator_fourbar
+from domes.execution import InProcess, executor
 from domes.io.files import check_target
 from domes.io.tasks import load_task
 from domes.sketch.synthesis import synthesis_html
@@ -46,6 +47,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="text (default), json (each solution a mechanism file), or an html page of drawings")
     p.add_argument("--all", action="store_true", help="also list the rejected solutions (text)")
     p.add_argument("--output", "-o", help="write to this file (atomically) instead of standard output")
+    parallel_options(p, "dimension a curve task's candidates")
     p.set_defaults(func=run)
 
 
@@ -53,7 +55,9 @@ def run(args) -> int:
     if args.output:
         check_target(args.output)
     task = load_task(args.task)
-    result = synthesize(task, args.method, args.seeds, progress=progress_printer())
+    with executor(args.workers, args.scheduler) as run_on:
+        result = synthesize(task, args.method, args.seeds, progress=progress_printer(),
+                            executor=None if isinstance(run_on, InProcess) else run_on)
     if args.format == "html":
         text = synthesis_html(result, task)
     elif isinstance(result, Dimensioning):

@@ -144,10 +144,11 @@ def executor(workers: int | None = None, scheduler: str | None = None):
     import dask
 
     logging.getLogger("distributed").setLevel(logging.ERROR)     # the scheduler runs here: no INFO lines on stderr
-    # Dask's workers return freed memory to the system from 64 kB up (MALLOC_TRIM_THRESHOLD_): on this work,
-    # which makes and drops millions of small graphs, that halves their speed. From 1 GiB up they run as fast as
-    # this process does.
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": 2**30}):
+    # Dask's workers return freed memory to the system from 64 kB up (MALLOC_TRIM_THRESHOLD_). Setting any value
+    # turns off glibc's adaptive thresholds: the atlas, which makes and drops millions of small graphs, ran at half
+    # speed, and numpy's large temporaries were mapped and unmapped on every operation (the kernel at a third of its
+    # speed). Unset, the workers allocate as this process does.
+    with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
                                silence_logs=logging.ERROR)
     client = Client(cluster, set_as_default=False)

@@ -146,9 +146,9 @@ def unpack(data: bytes) -> Graph:
 #: the load; fewer find fewer chains twice).
 PARALLEL_PARENTS = 256
 TASKS_PER_WORKER = 2
-#: With checkpoints, slices have at most this many parents (about a second of work each), so that a killed run
+#: With checkpoints, slices have at most this many parents (10-20 s of work each at 14 links), so that a killed run
 #: loses little.
-CHECKPOINT_PARENTS = 1000
+CHECKPOINT_PARENTS = 5000
 
 
 def _completed_here(fn, items, progress=None):
@@ -388,8 +388,8 @@ COST_GROWTH_PER_TWO_LINKS = 1.7
 #: ``benchmarks/measure.py``), more for larger chains in proportion to their links ...
 BYTES_PER_CHAIN_14 = 5700
 #: ... and this share of the time stays in this process on a local cluster (the merge, the sort, the small
-#: levels: 18.2 s of 163.9 s at 14 links, ``benchmarks/scale_model.py``): on N workers about T·(s + (1 − s)/N).
-SERIAL_SHARE = 0.11
+#: levels: 16.6 s of 140.5 s at 14 links, ``benchmarks/scale_model.py``): on N workers about T·(s + (1 − s)/N).
+SERIAL_SHARE = 0.12
 #: The largest atlas built to measure the rate here, and the growth assumed when too few sizes are known.
 FORECAST_LINKS = 12
 GROWTH_PER_TWO_LINKS = 30

@@ -97,3 +97,17 @@ def test_seeded_monte_carlo_is_the_same_on_two_workers(cluster):
     assert here.batches == there.batches == 9
     for name in ("mean", "std", "largest"):
         assert np.array_equal(getattr(here, name), getattr(there, name)), name
+
+
+def test_scene_candidates_are_dimensioned_the_same_on_two_workers(cluster):
+    # Batch verification of a scene's candidates: the rising-rate suspension task (issue 13) over the six
+    # candidates of the motorcycle scene, each candidate a task with its own child of the seed.
+    from domes.design.synthesis import synthesize
+    from domes.io.tasks import load_task
+
+    task = load_task(ROOT / "examples/synthesis/rising-rate.json")
+    here = synthesize(task, "fast", seeds=2)
+    there = synthesize(task, "fast", seeds=2, executor=cluster)
+    assert len(here.solutions) == len(there.solutions) > 0
+    assert [(s.candidate, s.error, s.mechanism.to_dict()) for s in here.solutions] == \
+        [(s.candidate, s.error, s.mechanism.to_dict()) for s in there.solutions]

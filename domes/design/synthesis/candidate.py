@@ -345,48 +345,63 @@ def _one(chain, role: str) -> int:
 
 
 def dimension(task: CurveTask, candidates, method: str = "exact", seeds: int = 64, seed: int = 0,
-              progress: Progress | None = None) -> Dimensioning:
+              progress: Progress | None = None, executor=None) -> Dimensioning:
     """Dimension every ``(id, labelled chain)`` of ``candidates`` for ``task``; the verified layouts of each.
 
     ``200 × seeds`` random layouts per candidate are screened by the kernel;
     the best 12 (``method="exact"``) or 4 (``"fast"``) are polished by least
-    squares and verified by a continuation sweep.
+    squares and verified by a continuation sweep. Each candidate draws from
+    its own child of ``SeedSequence(seed)``, so ``executor``
+    (:mod:`domes.execution`) may dimension them side by side with the same
+    result.
     """
     if method not in ("exact", "fast"):
         raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
     started = time.perf_counter()
-    rng = np.random.default_rng(seed)
     polish = 12 if method == "exact" else 4
-    out: list[Dimensioned] = []
-    notes = []
-    ids = []
     candidates = list(candidates)
-    clock = Ticker(progress)
-    for k, (cid, chain) in enumerate(candidates, 1):
-        clock.tick(lambda: f"candidate {cid} ({k}/{len(candidates)}): screening {200 * seeds:,} layouts, "
-                           f"polishing {polish}", force=True)
-        ids.append(cid)
-        try:
-            model = Model(chain, task, f"{task.name}: candidate {cid}")
-        except InputError as exc:
-            notes.append(f"candidate {cid}: cannot carry the task: {exc}")
-            continue
-        found = _fit(model, rng, 200 * seeds, polish)
-        mine = [_verify(model, cid, row, f"{task.name}: candidate {cid}") for row in found]
-        mine.sort(key=lambda s: (not s.usable, s.error))
-        kept: list[Dimensioned] = []
-        for s in mine:                                  # one layout per distinct curve error
-            if not any(abs(s.error - k.error) <= 1e-6 * max(k.error, 1e-9) for k in kept):
-                kept.append(s)
-        out += kept[:3]
-        if not any(s.usable for s in kept):
-            notes.append(f"candidate {cid}: no verified layout in the box"
-                         + (f" (best error {100 * kept[0].error:.2g}%)" if kept else ""))
+    children = np.random.SeedSequence(seed).spawn(len(candidates))
+    tasks = [(task, cid, chain, child, 200 * seeds, polish) for (cid, chain), child in zip(candidates, children)]
+    if executor is None:
+        clock = Ticker(progress)
+        results = []
+        for k, item in enumerate(tasks, 1):
+            clock.tick(lambda: f"candidate {item[1]} ({k}/{len(tasks)}): screening {200 * seeds:,} layouts, "
+                               f"polishing {polish}", force=True)
+            results.append(_dimension_one(item))
+    else:
+        results = executor.map(_dimension_one, tasks, progress=progress)
+    out: list[Dimensioned] = []
+    notes = [note for _, note in results if note]
+    for kept, _ in results:
+        out += kept
+    ids = [cid for cid, _ in candidates]
     refused = [n for n in notes if "cannot carry" in n]
     if ids and len(refused) == len(ids):
         raise InputError(f"{task.name}: no candidate can carry the task: " + "; ".join(refused))
     return Dimensioning(task.name, tuple(out), tuple(ids), 200 * seeds, polish, time.perf_counter() - started,
                         tuple(notes))
+
+
+def _dimension_one(item) -> tuple[list, str]:
+    """One candidate: its best three verified layouts (one per distinct curve error) and a note, or none."""
+    task, cid, chain, child, screened, polish = item
+    try:
+        model = Model(chain, task, f"{task.name}: candidate {cid}")
+    except InputError as exc:
+        return [], f"candidate {cid}: cannot carry the task: {exc}"
+    found = _fit(model, np.random.default_rng(child), screened, polish)
+    mine = [_verify(model, cid, row, f"{task.name}: candidate {cid}") for row in found]
+    mine.sort(key=lambda s: (not s.usable, s.error))
+    kept: list[Dimensioned] = []
+    for s in mine:                                  # one layout per distinct curve error
+        if not any(abs(s.error - k.error) <= 1e-6 * max(k.error, 1e-9) for k in kept):
+            kept.append(s)
+    note = ""
+    if not any(s.usable for s in kept):
+        note = (f"candidate {cid}: no verified layout in the box"
+                + (f" (best error {100 * kept[0].error:.2g}%)" if kept else ""))
+    return kept[:3], note
 
 
 def _fit(model: Model, rng, screened: int, polish: int) -> list[np.ndarray]:

@@ -81,12 +81,13 @@ class Synthesis(SolutionSet):
                 f"{len(self.usable)} usable; {self.seconds * 1e3:.1f} ms")
 
 
-def synthesize(task, method: str = "exact", seeds: int = 64, progress=None) -> Synthesis | Dimensioning:
+def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, executor=None) -> Synthesis | Dimensioning:
     """Dimension a four-bar for ``task`` (guidance, function, rotations or path): every real solution, checked.
 
     A :class:`~domes.design.synthesis.candidate.CurveTask` dimensions its
     labelled candidates by least squares instead and returns a
-    :class:`~domes.design.synthesis.candidate.Dimensioning` (``progress``, a callback, hears of each candidate).
+    :class:`~domes.design.synthesis.candidate.Dimensioning` (``progress``, a callback, hears of each candidate;
+    ``executor``, see :mod:`domes.execution`, dimensions the candidates side by side).
 
     ``method="exact"`` finds every real root (closed forms, resultants, the
     path search); ``method="fast"`` polishes ``seeds`` random starts where
@@ -100,7 +101,7 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None) -> S
     if isinstance(task, CurveTask):
         if not task.candidates:
             raise InputError(f"{task.name}: no candidate to dimension (give a scene or candidates)")
-        return dimension(task, task.candidates, method, seeds, progress=progress)
+        return dimension(task, task.candidates, method, seeds, progress=progress, executor=executor)
     started = time.perf_counter()
     knobs = {"method": method, "seeds": seeds}
     if isinstance(task, GuidanceTask):
