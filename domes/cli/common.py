@@ -9,6 +9,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 
 from domes.errors import InputError
@@ -47,6 +48,17 @@ def db_option() -> argparse.ArgumentParser:
     parent = argparse.ArgumentParser(add_help=False)
     parent.add_argument("--db", metavar="URL", help=DB_HELP)
     return parent
+
+
+def finite_json(obj):
+    """JSON without NaN/Infinity: non-finite numbers become null (e.g. derivatives at a singular point)."""
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    if isinstance(obj, dict):
+        return {k: finite_json(v) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [finite_json(v) for v in obj]
+    return obj
 
 
 def available_memory() -> int | None:

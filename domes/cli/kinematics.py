@@ -24,7 +24,7 @@ import json
 import math
 import sys
 
-from domes.cli.common import confirm, progress_printer
+from domes.cli.common import confirm, finite_json, progress_printer
 from domes.errors import InputError
 from domes.io.mechanisms import load_mechanism
 from domes.motion.planar.kernel import vectorizable
@@ -138,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
                "groups_solved": sw.groups_solved, "groups_total": sw.groups_total, "equations": sw.equations,
                "status": sw.status, "reachable": [from_in(x) for x in sw.reachable],
                "max_residual": sw.max_residual, "dead_points": dead, "steps": rows}
-        json.dump(_finite(doc), out, indent=1)
+        json.dump(finite_json(doc), out, indent=1)
         out.write("\n")
     elif args.format == "csv":
         writer = csv.writer(out)
@@ -161,14 +161,3 @@ def run(args: argparse.Namespace) -> int:
         for d in dead:
             out.write(f"# {d['kind']} at input {d['input']:.12g} (± {d['within']:.2g}): {d['message']}\n")
     return 0
-
-
-def _finite(obj):
-    """JSON without NaN/Infinity: non-finite numbers become null (e.g. derivatives at a singular point)."""
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, list):
-        return [_finite(v) for v in obj]
-    return obj

@@ -26,7 +26,7 @@ import sys
 
 import numpy as np
 
-from domes.cli.common import parallel_options, progress_printer
+from domes.cli.common import finite_json, parallel_options, progress_printer
 from domes.cli.kinematics import parse_sweep
 from domes.design.tolerance import DISTRIBUTIONS, Tolerancing, compare, monte_carlo, sensitivity
 from domes.errors import InputError
@@ -66,7 +66,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "(degrees for an angle)")
     p.add_argument("--scan", action="store_true",
                    help="compare first order and Monte Carlo with the tolerances 1, 10, 100 and 1000 times as large")
-    p.add_argument("--format", choices=("text", "csv", "json"), default="text")
+    p.add_argument("--format", choices=("text", "csv", "json", "html"), default="text",
+                   help="text (default), csv (a row per input), json (everything), or an html page with plots")
     parallel_options(p, "run the Monte Carlo batches")
     shown = p.add_mutually_exclusive_group()
     shown.add_argument("--progress", dest="progress", action="store_true", default=None, help="show progress on stderr")
@@ -119,8 +120,12 @@ def run(args: argparse.Namespace) -> int:
     doc = _document(args, tol, first, mc, scan, allocated, scale, joint, angular)
     out = sys.stdout
     if args.format == "json":
-        json.dump(_finite(doc), out, indent=1)
+        json.dump(finite_json(doc), out, indent=1)
         out.write("\n")
+    elif args.format == "html":
+        from domes.sketch.tolerance import tolerance_html
+
+        out.write(tolerance_html(doc))
     elif args.format == "csv":
         writer = csv.writer(out)
         header = list(doc["inputs"][0])
@@ -212,13 +217,3 @@ def _text(out, doc) -> None:
     if alloc:
         out.write(f"# suggested tolerances keep the {doc['allocate']['meaning']} within {doc['allocate']['accuracy']:g} "
                   f"{unit}, each dimension taking an equal part at its worst input\n")
-
-
-def _finite(obj):
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    if isinstance(obj, dict):
-        return {k: _finite(v) for k, v in obj.items()}
-    if isinstance(obj, list):
-        return [_finite(v) for v in obj]
-    return obj

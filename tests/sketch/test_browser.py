@@ -103,3 +103,47 @@ def test_screenshot_of_the_atlas(tmp_path):
     _chromium("--window-size=1200,900", f"--screenshot={shot}", path.as_uri())
     data = shot.read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20000
+
+
+#: Per card of a tolerance page: id, drawing width, drawn curves (with their on-screen widths), share bars.
+TOLERANCE_PROBE = """<script>
+window.addEventListener("load", function () {
+  var rows = [];
+  document.querySelectorAll(".card").forEach(function (card) {
+    var svg = card.querySelector("svg");
+    var curves = Array.from(card.querySelectorAll("polyline.curve")).map(function (c) { return c.getBBox().width; });
+    var bars = Array.from(card.querySelectorAll("rect.share")).map(function (b) { return b.getBBox().width; });
+    rows.push([card.dataset.id, svg.getBoundingClientRect().width, curves.length, Math.min.apply(null, curves.concat([1e9])),
+               bars.length, Math.max.apply(null, bars.concat([0]))].join(" "));
+  });
+  var pre = document.createElement("pre");
+  pre.id = "report";
+  pre.textContent = rows.join("\\n");
+  document.body.appendChild(pre);
+});
+</script>"""
+
+
+def test_the_tolerance_page_renders(tmp_path):
+    # domes tolerance --format html (issue 16, item 6): a plot per output column, the shares, the scan
+    import json
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "domes", "tolerance", "examples/mechanisms/slider-crank.json",
+                          "--output", "point:M", "--relative", "1e-4", "--samples", "20000", "--scan", "--format",
+                          "json"], capture_output=True, text=True, check=True)
+    from domes.sketch.tolerance import tolerance_html
+
+    doc = json.loads(out.stdout)
+    path = tmp_path / "tolerance.html"
+    path.write_text(tolerance_html(doc).replace("</body>", TOLERANCE_PROBE + "</body>"), encoding="utf-8")
+    dom = _chromium("--virtual-time-budget=10000", "--dump-dom", path.as_uri()).stdout
+    rows = {r.split()[0]: r.split()[1:] for r in re.search(r'<pre id="report">(.*?)</pre>', dom, re.S).group(1)
+            .strip().splitlines()}
+    assert list(rows) == ["point:M.x", "point:M.y", "shares", "scan"]
+    for column in ("point:M.x", "point:M.y"):
+        width, curves, narrowest = float(rows[column][0]), int(rows[column][1]), float(rows[column][2])
+        assert width > 300 and curves == 3 and narrowest > 250       # worst case, first order, Monte Carlo
+    bars, widest = int(rows["shares"][3]), float(rows["shares"][4])
+    assert bars == len(doc["dimensions"]) == 8 and widest > 50
+    assert int(rows["scan"][1]) == 1
