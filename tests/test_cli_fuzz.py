@@ -51,6 +51,8 @@ BASE = {
     "kb screen": ["kb", "screen", "--db", "DB", "examples/knowledge/graphs.json"],
     "kb relevance": ["kb", "relevance", "--db", "DB", '{"dof": 1}'],
     "kinematics": ["kinematics", "examples/mechanisms/four-bar.json", "--at", "30"],
+    "tolerance": ["tolerance", "examples/mechanisms/four-bar.json", "--output", "angle:rocker", "--relative", "1e-4",
+                  "--sweep", "0:90:45", "--samples", "200"],
     "draw": ["draw", "ErOg"],
     "cases record": ["cases", "--db", "DB", "record", "examples/design/gripper.answers", "--name", "fuzzed"],
     "cases remove": ["cases", "--db", "DB", "remove", "robot-gripper-1"],

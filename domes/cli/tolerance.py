@@ -28,7 +28,7 @@ import numpy as np
 
 from domes.cli.common import finite_json, parallel_options, progress_printer
 from domes.cli.kinematics import parse_sweep
-from domes.design.tolerance import DISTRIBUTIONS, Tolerancing, compare, monte_carlo, sensitivity
+from domes.design.tolerance import DISTRIBUTIONS, MAX_INPUTS, Tolerancing, compare, monte_carlo, sensitivity
 from domes.errors import InputError
 from domes.execution import InProcess, executor
 from domes.io.mechanisms import load_mechanism
@@ -92,6 +92,8 @@ def run(args: argparse.Namespace) -> int:
     mech = load_mechanism(args.file)
     if args.samples < 0:
         raise InputError(f"--samples must be >= 0, got {args.samples}")
+    if args.seed < 0:
+        raise InputError(f"--seed must be >= 0, got {args.seed}")
     joint = mech.inputs[0].joint if mech.inputs else None
     if joint is None:
         raise InputError(f"{args.file}: the mechanism has no input")
@@ -99,7 +101,10 @@ def run(args: argparse.Namespace) -> int:
     start, stop, step = parse_sweep(args.sweep, math.radians if angular else float)
     if step is None:
         raise InputError("--sweep: give START:STOP:STEP")
-    count = int(math.floor((stop - start) / step + 1e-9)) + 1
+    count = int(math.floor((stop - start) / step + 1e-9)) + 1 if stop >= start else 0
+    if not 1 <= count <= MAX_INPUTS:
+        raise InputError(f"--sweep {args.sweep}: gives {count:,} input values; give START <= STOP and at most "
+                         f"{MAX_INPUTS:,} values")
     inputs = start + step * np.arange(count)
     if angular and math.isclose(stop - start, 2 * math.pi) and count > 1:
         inputs = inputs[:-1]                                   # a full turn: 360 is 0 again

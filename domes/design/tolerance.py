@@ -54,6 +54,10 @@ from domes.results import Progress, Result, Status
 DISTRIBUTIONS = ("normal", "uniform")
 #: Samples per Monte Carlo batch (one task on an executor); the batches, not the workers, fix the numbers.
 BATCH = 20_000
+#: The most samples one run takes (about 10 minutes here; 10^6 take 7 s).
+MAX_SAMPLES = 100_000_000
+#: The most input values one analysis takes.
+MAX_INPUTS = 100_000
 #: Newton iterations and residual (relative to the mechanism's size) of the re-drawn pose.
 ITERATIONS = 30
 CLOSURE = 1e-12
@@ -85,6 +89,8 @@ class Tolerancing:
         self.inputs = np.asarray(inputs, dtype=float)
         if self.inputs.ndim != 1 or not self.inputs.size or not np.all(np.isfinite(self.inputs)):
             raise InputError("tolerance: the input values must be a 1-D array of finite numbers")
+        if self.inputs.size > MAX_INPUTS:
+            raise InputError(f"tolerance: {self.inputs.size:,} input values; at most {MAX_INPUTS:,} are taken")
         self.joint = mech.inputs[0].joint if mech.inputs else None
         self.size = mech.size
         self._compile()
@@ -394,8 +400,11 @@ class MonteCarlo(Result):
     @property
     def message(self) -> str:
         t = self.tolerancing
-        return (f"{t.mech.name}: {t.output}, {self.samples:,} samples ({self.distribution}, seed {self.seed}, "
-                f"{self.batches} batches): 3σ {3 * np.nanmax(self.std):.3g}, largest error {np.nanmax(self.largest):.3g}"
+        head = f"{t.mech.name}: {t.output}, {self.samples:,} samples ({self.distribution}, seed {self.seed}, " \
+               f"{self.batches} batches)"
+        if not np.isfinite(self.std).any():
+            return f"{head}: no sample assembled at every input value"
+        return (f"{head}: 3σ {3 * np.nanmax(self.std):.3g}, largest error {np.nanmax(self.largest):.3g}"
                 + (f"; {self.failed:,} samples did not assemble" if self.failed else ""))
 
 
@@ -409,8 +418,10 @@ def monte_carlo(tol: Tolerancing, samples: int = 100_000, seed: int = 0, distrib
     """
     if distribution not in DISTRIBUTIONS:
         raise InputError(f"tolerance: unknown distribution {distribution!r}; choose {' or '.join(DISTRIBUTIONS)}")
-    if not isinstance(samples, int) or samples < 2:
-        raise InputError(f"tolerance: at least 2 samples are needed, got {samples!r}")
+    if not isinstance(samples, int) or not 2 <= samples <= MAX_SAMPLES:
+        raise InputError(f"tolerance: the samples must be a whole number from 2 to {MAX_SAMPLES:,}, got {samples!r}")
+    if not isinstance(seed, int) or seed < 0:
+        raise InputError(f"tolerance: the seed must be a whole number >= 0, got {seed!r}")
     if not isinstance(batch_size, int) or batch_size < 1:
         raise InputError(f"tolerance: the batch size must be a whole number >= 1, got {batch_size!r}")
     nominal = np.stack([v[0] for v in tol.evaluate(tol.nominal[None, :]).values()])

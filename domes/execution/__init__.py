@@ -35,6 +35,8 @@ from domes.results import Progress, Ticker
 
 #: The environment variable naming an existing Dask scheduler.
 SCHEDULER_VARIABLE = "DOMES_SCHEDULER"
+#: A local cluster has at most this many workers per core of this machine.
+MAX_WORKERS_PER_CORE = 4
 
 
 class InProcess:
@@ -123,6 +125,11 @@ def executor(workers: int | None = None, scheduler: str | None = None):
     scheduler = scheduler or os.environ.get(SCHEDULER_VARIABLE) or None
     if workers is not None and (not isinstance(workers, int) or workers < 1):
         raise InputError(f"--workers must be a whole number of at least 1, got {workers!r}")
+    cores = os.cpu_count() or 1
+    if workers is not None and scheduler is None and workers > MAX_WORKERS_PER_CORE * cores:
+        raise InputError(f"--workers {workers}: this machine has {cores} cores, and more than "
+                         f"{MAX_WORKERS_PER_CORE * cores} local workers only compete for them; for more, start a "
+                         "Dask cluster and give --scheduler ADDRESS")
     if scheduler is None and (workers is None or workers == 1):
         yield InProcess()
         return
@@ -133,7 +140,7 @@ def executor(workers: int | None = None, scheduler: str | None = None):
     if scheduler is not None:
         try:
             client = Client(scheduler, timeout="10s", set_as_default=False)
-        except (OSError, TimeoutError, ValueError) as exc:
+        except Exception as exc:  # noqa: BLE001 - Dask raises OSError, TimeoutError, ValueError or AssertionError
             raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} (an address such as "
                              f"tcp://host:8786): {exc}") from None
         try:

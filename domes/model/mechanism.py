@@ -39,7 +39,11 @@ from dataclasses import dataclass, field
 from typing import Iterable, Mapping
 
 from domes.errors import InputError
+from domes.model.fields import check_keys as _keys
+from domes.model.fields import read_number as _num
+from domes.model.fields import read_xy as _xy
 from domes.model.labelled import LabelledChain
+from domes.model.masses import MassModel
 from domes.model.mobility import mobility
 
 Point2 = tuple[float, float]
@@ -107,10 +111,13 @@ class Mechanism:
     polygons: tuple[Polygon, ...] = ()
     link_angles: tuple[tuple[str, float], ...] = ()
     source: str = field(default="", compare=False)
+    masses: MassModel = MassModel()
 
     @classmethod
-    def build(cls, name, links, ground, joints, inputs, points=(), polygons=(), link_angles=None, source=""):
-        """Validate, split compound hinges, and freeze."""
+    def build(cls, name, links, ground, joints, inputs, points=(), polygons=(), link_angles=None, source="",
+              masses: MassModel | None = None):
+        """Validate, split compound hinges, and freeze. ``masses`` (:class:`~domes.model.masses.MassModel`):
+        mass properties, loads, springs and gravity, for dynamics (none by default)."""
         where = f"{source}: " if source else ""
         links = tuple(str(x) for x in links)
         if len(set(links)) != len(links):
@@ -178,8 +185,11 @@ class Mechanism:
         for x in angles:
             if x not in links:
                 raise InputError(f"{where}link_angles: {x!r} is not one of the links")
+        masses = masses or MassModel()
+        places = {j.name: j.links[0] for j in split} | {p.name: p.link for p in points}
+        masses.check(links, places, where)
         mech = cls(name, links, ground, tuple(split), inputs, tuple(points), tuple(polygons),
-                   tuple(sorted(angles.items())), source)
+                   tuple(sorted(angles.items())), source, masses)
         dof = mech.dof
         if dof != len(inputs):
             raise InputError(f"{where}the mechanism has {dof} degree(s) of freedom (3(n−1) − 2j = 3·{len(links) - 1} − 2·{len(split)}) "
@@ -275,13 +285,13 @@ class Mechanism:
         >>> round(m.inputs[0].speed, 6)  # degrees by default
         1.570796
         """
-        _keys(data, {"name", "angle_unit", "links", "ground", "joints", "inputs", "points", "polygons", "comment"},
-              {"links", "ground", "joints", "inputs"}, source)
+        _keys(data, {"name", "angle_unit", "links", "ground", "joints", "inputs", "points", "polygons", "comment",
+                     "gravity", "loads", "springs"}, {"links", "ground", "joints", "inputs"}, source)
         unit = data.get("angle_unit", "deg")
         if unit not in ("deg", "rad"):
             raise InputError(f"{source}: angle_unit must be 'deg' or 'rad', got {unit!r}")
         to_rad = math.radians if unit == "deg" else float
-        links, link_angles = [], {}
+        links, link_angles, link_items = [], {}, {}
         if not isinstance(data["links"], list):
             raise InputError(f"{source}: links: expected a list")
         for k, item in enumerate(data["links"]):
@@ -289,8 +299,9 @@ class Mechanism:
             if isinstance(item, str):
                 links.append(item)
                 continue
-            _keys(item, {"name", "angle"}, {"name"}, where)
+            _keys(item, {"name", "angle", "mass", "centre", "inertia"}, {"name"}, where)
             links.append(str(item["name"]))
+            link_items[links[-1]] = item
             if "angle" in item:
                 link_angles[links[-1]] = to_rad(_num(item["angle"], f"{where}.angle"))
         joints = []
@@ -325,16 +336,20 @@ class Mechanism:
             _keys(item, {"name", "link", "vertices"}, {"name", "link", "vertices"}, where)
             polygons.append(Polygon(str(item["name"]), str(item["link"]),
                                     tuple(_xy(v, f"{where}.vertices[{i}]") for i, v in enumerate(item["vertices"]))))
+        masses = MassModel.from_dict(data, link_items, source)
         return cls.build(str(data.get("name", source)), links, str(data["ground"]), joints, inputs,
-                               points, polygons, link_angles, source)
+                         points, polygons, link_angles, source, masses)
 
     def to_dict(self) -> dict:
         """The JSON structure of the mechanism (angles in degrees); inverse of :meth:`from_dict`."""
         mech = self
         angles = dict(mech.link_angles)
         deg = math.degrees
-        out: dict = {"name": mech.name, "angle_unit": "deg", "ground": mech.ground,
-                     "links": [{"name": x, "angle": deg(angles[x])} if x in angles else x for x in mech.links],
+        links = []
+        for x in mech.links:
+            item = {"name": x, **({"angle": deg(angles[x])} if x in angles else {}), **mech.masses.link_dict(x)}
+            links.append(item if len(item) > 1 else x)
+        out: dict = {"name": mech.name, "angle_unit": "deg", "ground": mech.ground, "links": links,
                      "joints": [], "inputs": []}
         for j in mech.joints:
             item = {"name": j.name, "type": j.kind, "links": list(j.links), "at": list(j.at)}
@@ -351,33 +366,11 @@ class Mechanism:
         if mech.polygons:
             out["polygons"] = [{"name": p.name, "link": p.link, "vertices": [list(v) for v in p.vertices]}
                                for p in mech.polygons]
+        out.update(mech.masses.to_dict())
         return out
 
 
 # -- file format ------------------------------------------------------------------
-
-
-def _num(value, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{where}: expected a finite number, got {value!r}")
-    return float(value)
-
-
-def _xy(value, where: str) -> Point2:
-    if not isinstance(value, (list, tuple)) or len(value) != 2:
-        raise InputError(f"{where}: expected [x, y], got {value!r}")
-    return _num(value[0], f"{where}[0]"), _num(value[1], f"{where}[1]")
-
-
-def _keys(obj, allowed: set[str], required: set[str], where: str) -> None:
-    if not isinstance(obj, dict):
-        raise InputError(f"{where}: expected an object, got {type(obj).__name__}")
-    unknown = set(obj) - allowed
-    if unknown:
-        raise InputError(f"{where}: unknown field(s) {sorted(unknown)}; allowed: {sorted(allowed)}")
-    missing = required - set(obj)
-    if missing:
-        raise InputError(f"{where}: missing field(s) {sorted(missing)}")
 
 
 def from_labelled(chain, at: Mapping, directions: Mapping | None = None, inputs: Iterable | None = None,
