@@ -56,7 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     band.add_argument("--relative", type=float, metavar="R",
                       help="± R times each link length (positions: times the mechanism's size)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=T",
-                   help="the tolerance of one dimension (names as listed), repeatable")
+                   help="the tolerance of one dimension (names as listed; angles in degrees), repeatable")
     p.add_argument("--distribution", choices=DISTRIBUTIONS, default="normal",
                    help="normal: σ = T/3 (default); uniform: anywhere within ± T")
     p.add_argument("--samples", type=int, default=100_000, help="Monte Carlo samples (default 100000; 0: first order only)")
@@ -108,8 +108,13 @@ def run(args: argparse.Namespace) -> int:
     inputs = start + step * np.arange(count)
     if angular and math.isclose(stop - start, 2 * math.pi) and count > 1:
         inputs = inputs[:-1]                                   # a full turn: 360 is 0 again
-    tol = Tolerancing(mech, args.output, inputs, tolerance=args.tolerance, relative=args.relative,
-                      tolerances=_overrides(args.set))
+    overrides = _overrides(args.set)
+    tol = Tolerancing(mech, args.output, inputs, tolerance=args.tolerance, relative=args.relative)
+    if overrides:                                              # angles are given in degrees, as shown
+        kinds = {d.name: d.kind for d in tol.dimensions}
+        overrides = {k: math.radians(v) if kinds.get(k) == "angle" else v for k, v in overrides.items()}
+        tol = Tolerancing(mech, args.output, inputs, tolerance=args.tolerance, relative=args.relative,
+                          tolerances=overrides)
     first = sensitivity(tol, args.distribution)
     scale = math.degrees(1.0) if args.output.startswith("angle:") else 1.0
     allocated = first.allocate(args.allocate / scale) if args.allocate is not None else None

@@ -141,3 +141,13 @@ def test_command_line_errors_name_the_problem():
     assert bad.returncode == 2 and "'rocker:A-D' is not a dimension" in bad.stderr and "crank:A-B" in bad.stderr
     bad = run_cli("examples/mechanisms/four-bar.json", "--output", "angle:rocker")
     assert bad.returncode == 2 and "--tolerance" in bad.stderr
+
+
+def test_command_line_takes_angle_tolerances_in_degrees():
+    import json
+
+    out = run_cli("examples/mechanisms/slider-crank.json", "--output", "slide:S", "--relative", "1e-4", "--set",
+                  "S.angle=0.01", "--samples", "0", "--sweep", "0:90:90", "--format", "json")
+    assert out.returncode == 0, out.stderr
+    angle = next(d for d in json.loads(out.stdout)["dimensions"] if d["name"] == "S.angle")
+    assert angle["tolerance"] == pytest.approx(0.01)
