@@ -9,7 +9,7 @@ import sys
 
 from domes.cli.common import available_memory, confirm, parallel_options, progress_printer
 from domes.errors import InputError
-from domes.execution import InProcess, executor
+from domes.execution import SCHEDULER_VARIABLE, InProcess, executor
 from domes.io.jobs import JobFolder
 from domes.model.chain import Chain
 from domes.model.mobility import chain_joints
@@ -80,9 +80,9 @@ def _duration(seconds: float) -> str:
 def _confirm_large(links: int, dof: int, include_fractionated: bool, yes: bool, workers: int = 1) -> None:
     """Say how large, long and memory-hungry the atlas will likely be, before it starts; go on if the user agrees."""
     f = forecast(links, dof, include_fractionated)
-    where = "in this process" if workers == 1 else f"on {workers} workers"
+    where = {0: "in one process (less on the cluster)", 1: "in this process"}.get(workers, f"on {workers} workers")
     text = (f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {f.count:.1e} chains ({f.basis}), "
-            f"likely {_duration(f.seconds_on(workers))} {where} and {f.memory / 2**30:.1f} GiB of memory")
+            f"likely {_duration(f.seconds_on(max(workers, 1)))} {where} and {f.memory / 2**30:.1f} GiB of memory")
     available = available_memory()
     cores = os.cpu_count() or 1
     if available is not None and f.memory > available:
@@ -121,7 +121,8 @@ def run_chains(args: argparse.Namespace) -> int:
                              "standard output, leave one of them out")
         job = JobFolder(args.out, {"kind": "chain atlas", "isomorphism": args.isomorphism})
     if links >= LARGE_ATLAS_LINKS:
-        _confirm_large(links, args.dof, args.include_fractionated, args.yes, 1 if args.scheduler else args.workers or 1)
+        _confirm_large(links, args.dof, args.include_fractionated, args.yes,
+                       0 if args.scheduler or os.environ.get(SCHEDULER_VARIABLE) else args.workers or 1)
     with executor(args.workers, args.scheduler) as run:
         generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress),
                                    executor=None if isinstance(run, InProcess) else run, checkpoints=job)
