@@ -117,7 +117,9 @@ class Tolerancing:
         self.dimensions = tuple(dims)
         self.nominal = np.array([d.nominal for d in dims])
         self.bands = np.array([d.tolerance for d in dims])
-        self.columns = list(self.evaluate(self.nominal[None, :]).keys())
+        drawn = self.evaluate(self.nominal[None, :])
+        self.columns = list(drawn)
+        self.nominal_output = np.stack([drawn[c][0] for c in self.columns])       # (C, N), the nominal mechanism
 
     # -- the model ------------------------------------------------------------------------------
 
@@ -349,10 +351,10 @@ def sensitivity(tol: Tolerancing, distribution: str = "normal", step: float = 1e
     nominal = np.stack([values[c][0] for c in tol.columns])                     # (C, N)
     if not np.all(np.isfinite(nominal)):
         raise InputError(f"tolerance: {tol.mech.name} does not assemble at every input value asked for")
-    gradient = np.stack([((values[c][1:d + 1] - values[c][d + 1:]) / (2 * h[:, None])).T for c in tol.columns])
+    steps = np.stack([values[c][1:d + 1] - values[c][d + 1:] for c in tol.columns])  # (C, D, N)
     if tol.output.startswith("angle:"):
-        gradient = np.stack([((np.angle(np.exp(1j * (values[c][1:d + 1] - values[c][d + 1:])))) / (2 * h[:, None])).T
-                             for c in tol.columns])
+        steps = np.angle(np.exp(1j * steps))                                      # across ±π
+    gradient = np.swapaxes(steps / (2 * h[:, None]), 1, 2)                         # (C, N, D)
     effect = gradient * tol.bands                                                # (C, N, D)
     worst = np.sum(np.abs(effect), axis=2)
     std = np.sqrt(np.sum((gradient * tol.sigma(distribution)) ** 2, axis=2))
@@ -424,7 +426,7 @@ def monte_carlo(tol: Tolerancing, samples: int = 100_000, seed: int = 0, distrib
         raise InputError(f"tolerance: the seed must be a whole number >= 0, got {seed!r}")
     if not isinstance(batch_size, int) or batch_size < 1:
         raise InputError(f"tolerance: the batch size must be a whole number >= 1, got {batch_size!r}")
-    nominal = np.stack([v[0] for v in tol.evaluate(tol.nominal[None, :]).values()])
+    nominal = tol.nominal_output
     sizes = [min(batch_size, samples - k) for k in range(0, samples, batch_size)]
     seeds = np.random.SeedSequence(seed).spawn(len(sizes))
     tasks = [(tol, nominal, distribution, s, n) for s, n in zip(seeds, sizes)]
