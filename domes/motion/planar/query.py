@@ -402,10 +402,14 @@ class Kinematics:
 
     # -- derivatives -------------------------------------------------------------------
 
-    def motion(self, values: dict, order: int):
-        """Rates and accelerations of all needed variables, the worst residual and condition number."""
-        rates = {v: self.inputs[j].speed for j, v in self.structure.input_vars.items()}
-        accels = {v: self.inputs[j].acceleration for j, v in self.structure.input_vars.items()}
+    def motion(self, values: dict, order: int, speeds: dict | None = None, accelerations: dict | None = None):
+        """Rates and accelerations of all needed variables, the worst residual and condition number.
+
+        Input rates are the mechanism's (``Input.speed``, ``Input.acceleration``) unless given by joint.
+        """
+        speeds, accelerations = speeds or {}, accelerations or {}
+        rates = {v: speeds.get(j, self.inputs[j].speed) for j, v in self.structure.input_vars.items()}
+        accels = {v: accelerations.get(j, self.inputs[j].acceleration) for j, v in self.structure.input_vars.items()}
         residual, condition = 0.0, 1.0
         for g in self.groups:
             if not g.unknowns:
@@ -491,9 +495,13 @@ class Kinematics:
                     out[name + "'" * k] = float(val) if lib is math else val
         return out
 
-    def at(self, inputs: dict, guess: dict | None = None, order: int | None = None) -> Step:
-        """Solve one configuration (no continuation: ``guess`` sets the branch for Newton groups)."""
+    def at(self, inputs: dict, guess: dict | None = None, order: int | None = None, speeds: dict | None = None,
+           accelerations: dict | None = None) -> Step:
+        """Solve one configuration (no continuation: ``guess`` sets the branch for Newton groups).
+
+        ``speeds`` and ``accelerations`` (by input joint) replace the mechanism's input rates.
+        """
         order = self.order if order is None else order
         values = self.positions(inputs, guess)
-        rates, accels, residual, condition = self.motion(values, order)
+        rates, accels, residual, condition = self.motion(values, order, speeds, accelerations)
         return Step(dict(inputs), self.output_values(values, rates, accels, order), residual, condition, values)
