@@ -53,6 +53,7 @@ BASE = {
     "kinematics": ["kinematics", "examples/mechanisms/four-bar.json", "--at", "30"],
     "tolerance": ["tolerance", "examples/mechanisms/four-bar.json", "--output", "angle:rocker", "--relative", "1e-4",
                   "--sweep", "0:90:45", "--samples", "200"],
+    "dynamics": ["dynamics", "examples/dynamics/slider-crank-engine.json", "--sweep", "0:90:45"],
     "draw": ["draw", "ErOg"],
     "cases record": ["cases", "--db", "DB", "record", "examples/design/gripper.answers", "--name", "fuzzed"],
     "cases remove": ["cases", "--db", "DB", "remove", "robot-gripper-1"],
@@ -173,7 +174,7 @@ def test_no_argument_ends_in_a_traceback(scratch, capsys, mutation):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("command", sorted(c for c in BASE if c.startswith(("curves", "synthesize"))))
+@pytest.mark.parametrize("command", sorted(c for c in BASE if c.startswith(("curves", "synthesize", "dynamics"))))
 def test_every_curves_argument_ends_cleanly(scratch, capsys, command):
     # every mutation of the coupler-curve and synthesis commands (few and quick), not a sample
     for cmd, argument, value in mutations():

@@ -29,6 +29,7 @@ SUBCOMMAND_MODULES = (
     "domes.cli.kb",
     "domes.cli.kinematics",
     "domes.cli.tolerance",
+    "domes.cli.dynamics",
     "domes.cli.curves",
     "domes.cli.synthesize",
     "domes.cli.draw",

@@ -41,6 +41,8 @@ EQUATIONS = ("corrected", "printed")
 
 #: Below this |sin(θ2 − θ1)| a pose is reported singular (P on the line AB).
 SINGULAR_SINE = 1e-4
+#: The most sample points of one run.
+MAX_POINTS = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -348,8 +350,8 @@ def follow(scriber: Scriber, contour: Contour, speed: float, points: int = 1000,
     """
     if not (math.isfinite(speed) and speed > 0):
         raise InputError(f"speed: must be a number > 0, got {speed!r}")
-    if not (isinstance(points, int) and 2 <= points <= 10_000_000):
-        raise InputError(f"points: an integer from 2 to 10,000,000, got {points!r}")
+    if not (isinstance(points, int) and 2 <= points <= MAX_POINTS):
+        raise InputError(f"points: an integer from 2 to {MAX_POINTS:,}, got {points!r}")
     _kinetic(kinetic)
     sample = contour.sample(points, speed)
     P, V, A = sample["P"], sample["V"], sample["A"]
@@ -387,4 +389,35 @@ def follow(scriber: Scriber, contour: Contour, speed: float, points: int = 1000,
                       tuple(junctions), status, tuple(problems), min_sine)
 
 
-__all__ = ["EQUATIONS", "KINETIC", "Junction", "PathForces", "SINGULAR_SINE", "Scriber", "follow"]
+@dataclass(frozen=True)
+class ScriberTask:
+    """A scriber task file: the mechanism, the contour, the head's speed and the number of sample points."""
+
+    name: str
+    scriber: Scriber
+    contour: Contour
+    speed: float
+    points: int = 1000
+
+    @classmethod
+    def from_dict(cls, data, source: str) -> "ScriberTask":
+        """``{"scriber": {...}, "contour": {...}, "speed": v, "points": n}`` (format in ``docs/dynamics.md``)."""
+        check_keys(data, {"name", "comment", "scriber", "contour", "speed", "points"}, {"scriber", "contour", "speed"},
+                   source)
+        scriber = Scriber.from_dict(data["scriber"], source) if isinstance(data["scriber"], dict) else None
+        if scriber is None:
+            raise InputError(f"{source}: scriber: expected a table with H (and sa, sb, lengths, masses, branch)")
+        speed = read_number(data["speed"], f"{source}: speed")
+        if speed <= 0:
+            raise InputError(f"{source}: speed: must be > 0, got {speed!r}")
+        points = data.get("points", 1000)
+        if not (isinstance(points, int) and not isinstance(points, bool) and 2 <= points <= MAX_POINTS):
+            raise InputError(f"{source}: points: an integer from 2 to {MAX_POINTS:,}, got {points!r}")
+        name = str(data.get("name", source))
+        contour = data["contour"]
+        if isinstance(contour, dict) and "name" not in contour:
+            contour = {"name": name, **contour}
+        return cls(name, scriber, Contour.from_dict(contour, source), speed, points)
+
+__all__ = ["EQUATIONS", "KINETIC", "Junction", "MAX_POINTS", "PathForces", "SINGULAR_SINE", "Scriber", "ScriberTask",
+           "follow"]

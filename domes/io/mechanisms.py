@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from domes.design.scriber import ScriberTask
 from domes.errors import InputError
 from domes.io.files import read_text, write_atomic
 from domes.model.mechanism import Mechanism
@@ -20,12 +21,26 @@ from domes.model.mechanism import Mechanism
 
 def load_mechanism(path: str | Path) -> Mechanism:
     """Read a mechanism file (JSON). Errors name the file, line and field."""
+    return Mechanism.from_dict(_json(path), str(path))
+
+
+def load_scriber_task(path: str | Path):
+    """Read a scriber task file (JSON: a 2-RPR scriber, a contour, a speed; see ``docs/dynamics.md``)."""
+    return ScriberTask.from_dict(_json(path), str(path))
+
+
+def is_scriber_task(path: str | Path) -> bool:
+    """Whether a JSON file is a scriber task (it has a ``contour``) rather than a mechanism."""
+    data = _json(path)
+    return isinstance(data, dict) and "contour" in data
+
+
+def _json(path):
     text = read_text(path)
     try:
-        data = json.loads(text)
+        return json.loads(text)
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}") from None
-    return Mechanism.from_dict(data, str(path))
 
 
 def save_mechanism(mechanism: Mechanism, path: str | Path) -> None:

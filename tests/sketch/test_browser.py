@@ -147,3 +147,32 @@ def test_the_tolerance_page_renders(tmp_path):
     bars, widest = int(rows["shares"][3]), float(rows["shares"][4])
     assert bars == len(doc["dimensions"]) == 8 and widest > 50
     assert int(rows["scan"][1]) == 1
+
+
+def test_the_dynamics_pages_render(tmp_path):
+    # domes dynamics --format html (issue 16, item 6): force curves over the motion, reactions, powers; the
+    # scriber's contour with its junctions and its two forces along the arc length
+    import json
+    import sys
+
+    from domes.sketch.dynamics import dynamics_html
+
+    for file, expected in (("examples/dynamics/slider-crank-engine.json", {"driving": 1, "reactions": 4, "power": 3}),
+                           ("examples/dynamics/scriber-stadium.json", {"contour": 0, "forces": 2, "strokes": 2,
+                                                                       "power": 2})):
+        out = subprocess.run([sys.executable, "-m", "domes", "dynamics", file, "--format", "json"],
+                             capture_output=True, text=True, check=True)
+        doc = json.loads(out.stdout)
+        path = tmp_path / "dynamics.html"
+        path.write_text(dynamics_html(doc).replace("</body>", TOLERANCE_PROBE + "</body>"), encoding="utf-8")
+        dom = _chromium("--virtual-time-budget=10000", "--dump-dom", path.as_uri()).stdout
+        rows = {r.split()[0]: r.split()[1:] for r in re.search(r'<pre id="report">(.*?)</pre>', dom, re.S).group(1)
+                .strip().splitlines()}
+        assert list(rows) == list(expected)
+        for card, curves in expected.items():
+            width, drawn = float(rows[card][0]), int(rows[card][1])
+            assert width > 300 and drawn == curves, (file, card, rows[card])
+            if curves:
+                assert float(rows[card][2]) > 250             # every curve spans the plot
+        if "contour" in expected:
+            assert dom.count('class="junction"') == 4 and dom.count('class="pivot"') == 2

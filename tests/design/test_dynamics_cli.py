@@ -1,0 +1,68 @@
+"""``domes dynamics`` (issue 16, item 6): the document it writes is the library's result; mistakes are named."""
+
+import json
+
+import pytest
+
+from domes.cli import main
+
+ENGINE = "examples/dynamics/slider-crank-engine.json"
+SCRIBER = "examples/dynamics/scriber-stadium.json"
+
+
+def run(capsys, *words):
+    status = main(["dynamics", *words])
+    out = capsys.readouterr()
+    return status, out.out, out.err
+
+
+def test_mechanism_json_and_csv(capsys):
+    import math
+
+    from domes.design.dynamics import inverse_dynamics
+    from domes.io.mechanisms import load_mechanism
+
+    status, out, _ = run(capsys, ENGINE, "--sweep", "0:360:10", "--format", "json")
+    doc = json.loads(out)
+    assert status == 0 and doc["status"] == "complete" and doc["max_imbalance"] < 1e-12
+    dyn = inverse_dynamics(load_mechanism(ENGINE), 0.0, 2 * math.pi, math.radians(10))
+    assert doc["columns"]["drive:A"] == pytest.approx(dyn.driving["A"].tolist(), rel=1e-12)
+    assert doc["drives"]["A"]["kind"] == "torque"
+    status, out, _ = run(capsys, ENGINE, "--sweep", "0:360:10", "--format", "csv")
+    lines = out.strip().splitlines()
+    assert len(lines) == 38 and lines[0].startswith("input (deg),time,drive:A,reaction:A.x")
+
+
+def test_speed_knob_scales_the_inertia_forces(capsys):
+    # without gravity and loads the torque would scale with the speed squared; here the gas force and gravity
+    # stay, so only the difference of two speeds scales
+    docs = []
+    for speed in ("9000", "18000", "36000"):
+        _, out, _ = run(capsys, ENGINE, "--sweep", "10:350:20", "--speed", speed, "--format", "json")
+        docs.append(json.loads(out)["columns"]["drive:A"])
+    import numpy as np
+    a, b, c = (np.array(d) for d in docs)
+    np.testing.assert_allclose(c - a, 5.0 * (b - a), rtol=1e-9, atol=1e-9)
+
+
+def test_scriber_text_and_json(capsys):
+    status, out, _ = run(capsys, SCRIBER, "--points", "400")
+    assert status == 0 and "junction 1 at s = 0.1: corner 0°" in out and "lines: Q in" in out
+    status, out, _ = run(capsys, SCRIBER, "--points", "400", "--kinetic", "paper", "--equations", "printed",
+                         "--format", "json")
+    doc = json.loads(out)
+    assert doc["max_imbalance"] > 0.1            # the printed equations break the power balance (D-7)
+    assert len(doc["columns"]["Q1"]) == 400 and len(doc["junctions"]) == 4
+
+
+@pytest.mark.parametrize("words, message", [
+    ([ENGINE, "--points", "10"], "--points is for a scriber task file"),
+    ([SCRIBER, "--sweep", "0:1:1"], "--sweep is for a mechanism file"),
+    ([SCRIBER, "--points", "1"], "points: an integer from 2"),
+    ([ENGINE, "--sweep", "0:360:0.00001"], "at most 1,000,000"),
+    ([ENGINE, "--speed", "nan"], "--speed: must be a finite number"),
+    ([ENGINE, "--input", "B"], "not a driven joint"),
+])
+def test_mistakes_are_named(capsys, words, message):
+    status, _, err = run(capsys, *words)
+    assert status == 2 and message in err
