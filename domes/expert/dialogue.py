@@ -29,7 +29,7 @@ from domes.expert.questions import (
     verify_parser,
 )
 from domes.expert.world import World
-from domes.io.scenes import scene_names
+from domes.io.scenes import load_scene, scene_names
 from domes.io.transcripts import TRANSCRIPT_FORMAT
 from domes.knowledge.problems import ProblemFrame
 from domes.model.labelled import LabelledChain
@@ -110,9 +110,11 @@ class Dialogue:
                             parse_scene_answer, default or "none", HELP["scene"])
         if qid == "verify":
             kept = {c["id"]: LabelledChain.from_dict(c) for c in self.world.run_result.kept}
-            return Question("verify", "Verify dimensions? (none; CANDIDATE FILE.json CHECK, CHECK is rotatability "
-                            "or range OUTPUT FROM:TO; path POINTS.csv: which four-bar traces it?; or dimension CANDIDATE "
-                            "TASK.json: dimensions for a wanted curve)",
+            asks = _scene_checks(engine.attr("scene"))
+            return Question("verify", "Verify dimensions? (none; CANDIDATE FILE.json CHECK, CHECK is rotatability, "
+                            "range OUTPUT FROM:TO, force-ratio OUTPUT FROM:TO [RATIO], wheel-rate POINT SPRING FROM:TO "
+                            "or drive FROM:TO; path POINTS.csv: which four-bar traces it?; or dimension CANDIDATE "
+                            "TASK.json: dimensions for a wanted curve)" + asks,
                             verify_parser(kept), "none", HELP["verify"])
         if qid == "relevance_overrides":
             ids = list(engine.attr("relevance_default").ids)
@@ -201,3 +203,16 @@ def rejected_text(world: World) -> str:
         why = f" ({words[r['criterion']]})" if words.get(r["criterion"]) else ""
         lines.append(f"  candidate {r['candidate']}: rejected by {r['criterion']}{why} (level {r['level']}): {r['reason']}")
     return "\n".join(lines)
+
+
+def _scene_checks(scene: str | None) -> str:
+    """The checks the scene asks for, as a sentence for the verify question ('' without a scene or checks)."""
+    if not scene or scene == "none":
+        return ""
+    try:
+        checks = load_scene(scene).checks
+    except DomesError:
+        return ""
+    if not checks:
+        return ""
+    return " The scene asks for: " + "; ".join(f"{c.usage} ({c.why})" for c in checks) + "."

@@ -180,8 +180,12 @@ HELP = {
              "(docs/regeneration.md); none labels only the joints (sliders, gear pairs) and has no roles.",
     "relevance_overrides": "none keeps the relevant criteria as listed; ID or +ID declares a criterion relevant, "
                            "-ID irrelevant (several, separated by spaces).",
-    "verify": "none, or a kept candidate, a dimensioned mechanism file of it and a check: 'rotatability' or 'range "
-              "OUTPUT FROM:TO', e.g. 2 mechanisms/suzuki-rm250x.json range slide:g -10:10; or 'path FILE' with a "
+    "verify": "none, or a kept candidate, a dimensioned mechanism file of it and a check: 'rotatability', 'range "
+              "OUTPUT FROM:TO', e.g. 2 mechanisms/suzuki-rm250x.json range slide:g -10:10, or a check with forces: "
+              "'force-ratio OUTPUT FROM:TO [RATIO]' (force amplification, the toggle, where RATIO is reached), "
+              "'wheel-rate POINT SPRING FROM:TO' (leverage ratio and wheel rate from the file's spring), 'drive "
+              "FROM:TO' (the input's force or torque from the file's masses and loads; docs/dynamics.md); or "
+              "'path FILE' with a "
               "wanted coupler path (points x, y, CSV or JSON): the four-bars that trace it, from the atlas of "
               "coupler curves, refined and checked, drawn in FILE.matches.html (docs/curves.md); or 'dimension CANDIDATE "
               "TASK.json': the kept candidate dimensioned by least squares for the task's wanted curve, verified, "

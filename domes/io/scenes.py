@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from domes.design.verify import CHECKS, USAGE
 from domes.errors import DomesError, InputError
 from domes.io.resources import knowledge_dir
 from domes.io.tomlsource import TomlSource
@@ -22,13 +23,13 @@ from domes.model.chain import Chain
 from domes.model.labelled import JOINT_TYPES
 from domes.model.mobility import chain_joints
 from domes.typesynth.atlas import ChainGenerator
-from domes.typesynth.scene import SELECTIONS, Degrees, Particularization, Scene, Stage, impossible_degree
+from domes.typesynth.scene import SELECTIONS, Degrees, Particularization, Scene, SceneCheck, Stage, impossible_degree
 
 _STAGE_KEYS = {"name", "role", "select", "rules", "note"}
 _CHAINS_KEYS = {"links", "dof", "include_fractionated"}
 #: Up to this many links the degrees that occur are read off the atlas itself.
 DEGREES_FROM_ATLAS = 10
-_TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book"}
+_TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book", "checks"}
 
 
 def scene_names() -> list[str]:
@@ -115,6 +116,15 @@ def parse_scene(src: TomlSource) -> Scene:
     counts = tuple(book.get("counts", ()))
     if counts and len(counts) != len(stages):
         raise src.error(f"[book] counts has {len(counts)} entries for {len(stages)} stages", src.line_of("counts"))
+    checks = []
+    for i, raw in enumerate(data.get("checks", [])):
+        line = src.table_line("checks", i)
+        if not isinstance(raw, dict) or set(raw) != {"check", "why"} or not all(isinstance(v, str) for v in raw.values()):
+            raise src.error("checks: each [[checks]] has a 'check' (a verify check: "
+                            f"{'; '.join(USAGE)}) and a 'why'", line)
+        if (raw["check"].split() or [""])[0] not in CHECKS:
+            raise src.error(f"checks: {raw['check']!r} is not a verify check; they are {', '.join(USAGE)}", line)
+        checks.append(SceneCheck(raw["check"], raw["why"]))
     return Scene(
         name=str(data.get("name", Path(src.path).stem)),
         title=str(data.get("title", data.get("name", ""))),
@@ -128,6 +138,7 @@ def parse_scene(src: TomlSource) -> Scene:
         existing=tuple(existing),
         book_counts=counts,
         book_note=str(book.get("note", "")),
+        checks=tuple(checks),
     )
 
 

@@ -65,6 +65,15 @@ class Particularization:
 
 
 @dataclass(frozen=True)
+class SceneCheck:
+    """A dimensional check the scene asks of a verified candidate: its ``usage`` (a verify check, e.g.
+    ``force-ratio OUTPUT FROM:TO [RATIO]``) and ``why`` the design needs it."""
+
+    usage: str
+    why: str
+
+
+@dataclass(frozen=True)
 class Scene:
     """A regeneration scene (see the module doc)."""
 
@@ -80,6 +89,7 @@ class Scene:
     existing: tuple[LabelledChain, ...]
     book_counts: tuple[int | None, ...]
     book_note: str
+    checks: tuple[SceneCheck, ...] = ()
 
     @property
     def roles(self) -> list[str]:

@@ -274,3 +274,30 @@ def test_a_kept_candidate_is_dimensioned_for_a_task_and_kept_with_the_case(caseb
         stored = kb.get_problem(outcome.frame.id)
     assert stored.mechanisms[0]["mechanism"] == record["mechanism"]
     assert (tmp_path / "rising-rate.candidate-3.html").is_file()
+
+
+def test_force_checks_the_scenes_ask_for(casebase):
+    # issue 16, item 4: the motorcycle scene asks for the wheel rate; the verify question says so, and the
+    # check runs on the dimensioned original from the file's spring. The hinge clamp asks for the force ratio.
+    import math
+
+    from domes.design.forces import wheel_rate
+    from domes.io.mechanisms import load_mechanism
+
+    text = MOTORCYCLE.replace("class: motorcycle rear suspension\n", "class: test suspension\n").replace(
+        "verify: 2 mechanisms/suzuki-rm250x.json range slide:g -10:10",
+        "verify: 2 mechanisms/suzuki-rm250x.json wheel-rate point:axle shock -10:10")
+    outcome, said = run(casebase, text)
+    assert "The scene asks for: wheel-rate POINT SPRING FROM:TO" in said
+    note = next(n for n in outcome.frame.notes if n.startswith("verified candidate 2"))
+    mech = load_mechanism(knowledge_dir() / "mechanisms" / "suzuki-rm250x.json")
+    r = wheel_rate(mech, "point:axle", "shock", math.radians(-10), math.radians(10), math.radians(20 / 60))
+    assert f"wheel rate {r.wheel_rate[0]:.4g} at the start to {r.wheel_rate[-1]:.4g} at the end (rising" in note
+
+    clamp = (ROOT / "examples" / "design" / "hinge-clamp.answers").read_text()
+    clamp = clamp.replace("class: hinge clamp\n", "class: test clamp\n").replace(
+        "verify: none", "verify: 2 mechanisms/hinge-clamp.json force-ratio point:jaw 0.106:0.13 20\nverify: none")
+    outcome, said = run(casebase, clamp)
+    assert "The scene asks for: force-ratio OUTPUT FROM:TO RATIO" in said
+    note = next(n for n in outcome.frame.notes if n.startswith("verified candidate 2"))
+    assert "toggle (ratio without bound) at 0.1231" in note and "the ratio 20 is reached at 0.1230" in note
