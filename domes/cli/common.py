@@ -9,6 +9,8 @@
 from __future__ import annotations
 
 import argparse
+import csv
+import json
 import math
 import sys
 
@@ -93,3 +95,20 @@ def write_output(text: str, path: str | None) -> None:
         sys.stdout.write(text)
     else:
         write_atomic(path, text)
+
+
+def write_document(doc: dict, fmt: str, *, html, rows, text) -> None:
+    """Write a command's document to standard output as ``json``, ``html`` (``html(doc)``, a page), ``csv``
+    (``rows(doc)``: the header, then the rows) or ``text`` (``text(out, doc)``)."""
+    out = sys.stdout
+    if fmt == "json":
+        json.dump(finite_json(doc), out, indent=1)
+        out.write("\n")
+    elif fmt == "html":
+        out.write(html(doc))
+    elif fmt == "csv":
+        writer = csv.writer(out)
+        for k, row in enumerate(rows(doc)):
+            writer.writerow(row if k == 0 else [repr(v) for v in row])
+    else:
+        text(out, doc)

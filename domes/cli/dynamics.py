@@ -15,14 +15,11 @@
 from __future__ import annotations
 
 import argparse
-import csv
-import json
 import math
-import sys
 
 import numpy as np
 
-from domes.cli.common import finite_json, progress_printer
+from domes.cli.common import progress_printer, write_document
 from domes.cli.kinematics import parse_sweep
 from domes.design.dynamics import inverse_dynamics
 from domes.design.scriber import EQUATIONS, KINETIC, MAX_POINTS, follow
@@ -78,23 +75,20 @@ def run(args: argparse.Namespace) -> int:
         doc = _scriber(args)
     else:
         doc = _mechanism(args)
-    out = sys.stdout
-    if args.format == "json":
-        json.dump(finite_json(doc), out, indent=1)
-        out.write("\n")
-    elif args.format == "html":
-        from domes.sketch.dynamics import dynamics_html
-
-        out.write(dynamics_html(doc))
-    elif args.format == "csv":
-        writer = csv.writer(out)
-        names = list(doc["columns"])
-        writer.writerow(names)
-        for k in range(len(doc["columns"][names[0]])):
-            writer.writerow([repr(doc["columns"][n][k]) for n in names])
-    else:
-        _text(out, doc)
+    write_document(doc, args.format, html=_html, rows=_rows, text=_text)
     return 0
+
+
+def _html(doc: dict) -> str:
+    from domes.sketch.dynamics import dynamics_html
+
+    return dynamics_html(doc)
+
+
+def _rows(doc: dict):
+    names = list(doc["columns"])
+    yield names
+    yield from zip(*(doc["columns"][n] for n in names))
 
 
 def _mechanism(args) -> dict:

@@ -19,14 +19,11 @@
 from __future__ import annotations
 
 import argparse
-import csv
-import json
 import math
-import sys
 
 import numpy as np
 
-from domes.cli.common import finite_json, parallel_options, progress_printer
+from domes.cli.common import parallel_options, progress_printer, write_document
 from domes.cli.kinematics import parse_sweep
 from domes.design.tolerance import DISTRIBUTIONS, MAX_INPUTS, Tolerancing, compare, monte_carlo, sensitivity
 from domes.errors import InputError
@@ -128,23 +125,21 @@ def run(args: argparse.Namespace) -> int:
             scan = compare(tol, samples=min(args.samples, 20_000) or 20_000, seed=args.seed,
                            distribution=args.distribution, executor=where)
     doc = _document(args, tol, first, mc, scan, allocated, scale, joint, angular)
-    out = sys.stdout
-    if args.format == "json":
-        json.dump(finite_json(doc), out, indent=1)
-        out.write("\n")
-    elif args.format == "html":
-        from domes.sketch.tolerance import tolerance_html
-
-        out.write(tolerance_html(doc))
-    elif args.format == "csv":
-        writer = csv.writer(out)
-        header = list(doc["inputs"][0])
-        writer.writerow(header)
-        for row in doc["inputs"]:
-            writer.writerow([repr(row[h]) for h in header])
-    else:
-        _text(out, doc)
+    write_document(doc, args.format, html=_html, rows=_rows, text=_text)
     return 0
+
+
+def _html(doc: dict) -> str:
+    from domes.sketch.tolerance import tolerance_html
+
+    return tolerance_html(doc)
+
+
+def _rows(doc: dict):
+    header = list(doc["inputs"][0])
+    yield header
+    for row in doc["inputs"]:
+        yield [row[h] for h in header]
 
 
 def _document(args, tol, first, mc, scan, allocated, scale, joint, angular) -> dict:
