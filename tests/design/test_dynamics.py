@@ -204,3 +204,26 @@ def test_bad_requests_are_named():
         inverse_dynamics(mech, motion={"A": ([0.0, 1.0], [1.0], [0.0])})
     with pytest.raises(InputError, match="finite"):
         inverse_dynamics(mech, motion={"A": ([math.nan], [1.0], [0.0])})
+
+
+ROOT = Path(__file__).resolve().parents[2]
+OWN = [ROOT / "examples/dynamics/slider-crank-engine.json", ROOT / "knowledge/mechanisms/suzuki-rm250x.json",
+       ROOT / "knowledge/mechanisms/tyre-drum-fig5-1.json"]
+
+
+@pytest.mark.parametrize("path", OWN, ids=[p.stem for p in OWN])
+def test_power_balance_of_the_files_with_their_own_masses(path):
+    mech = load_mechanism(path)
+    assert not mech.masses.empty
+    start, stop, step = joint_range(mech)
+    dyn = inverse_dynamics(mech, start, stop, step, speed=2.0)
+    assert dyn.peak_power > 0 and dyn.max_imbalance < 1e-9, dyn.message
+
+
+def test_a_sweep_stopped_at_a_dead_point_keeps_what_it_reached():
+    from domes.motion.planar.examples import triple_rocker
+
+    mech = with_masses(triple_rocker())
+    dyn = inverse_dynamics(mech, 0.0, math.radians(130), math.radians(2))
+    assert str(dyn.status) == "stopped" and "stopped:" in dyn.message
+    assert dyn.inputs[-1] < math.radians(127.2) and dyn.max_imbalance < 1e-9
