@@ -49,6 +49,10 @@ JOINT_TYPES: dict[str, str] = {
     "F": "force",
     "Fp": "driving force",
     "Fr": "resisting force",
+    # the lower pairs of spatial mechanisms (``domes.model.spatial``), apart from the table's C, S, H
+    "Cyl": "cylindric pair",
+    "Sph": "spherical pair",
+    "Hel": "helical pair",
 }
 
 
