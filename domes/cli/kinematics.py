@@ -26,7 +26,7 @@ import sys
 
 from domes.cli.common import confirm, finite_json, progress_printer
 from domes.errors import InputError
-from domes.io.mechanisms import load_mechanism
+from domes.io.mechanisms import is_spatial, load_mechanism
 from domes.motion.planar.kernel import vectorizable
 from domes.motion.planar.query import PRESETS, Kinematics, accuracy
 from domes.motion.planar.sweep import grid_size, run_sweep
@@ -40,7 +40,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "sweeps the input with assembly-mode continuity, and reports every step's loop-closure residual and "
         "condition number and every dead (limit) or singular point. Angles in degrees unless --angles rad.",
     )
-    p.add_argument("file", help="mechanism file (JSON; see docs/kinematics.md)")
+    p.add_argument("file", help="mechanism file (JSON; planar: docs/kinematics.md, spatial: docs/spatial.md)")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--sweep", metavar="START:STOP[:STEP]",
                        help="sweep the input (degrees for an R input, length for a P input); STEP defaults to the "
@@ -91,6 +91,10 @@ def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
 
 
 def run(args: argparse.Namespace) -> int:
+    if is_spatial(args.file):
+        from domes.cli.spatial import run_spatial
+
+        return run_spatial(args)
     mech = load_mechanism(args.file)
     acc = accuracy(args.accuracy, tol=args.tol, derivatives=args.derivatives)
     kin = Kinematics(mech, args.outputs, args.order, args.method, acc)

@@ -17,11 +17,32 @@ from domes.design.scriber import ScriberTask
 from domes.errors import InputError
 from domes.io.files import read_text, write_atomic
 from domes.model.mechanism import Mechanism
+from domes.model.spatial import SpatialMechanism
 
 
 def load_mechanism(path: str | Path) -> Mechanism:
-    """Read a mechanism file (JSON). Errors name the file, line and field."""
-    return Mechanism.from_dict(_json(path), str(path))
+    """Read a planar mechanism file (JSON). Errors name the file, line and field."""
+    data = _json(path)
+    if isinstance(data, dict) and data.get("space") == "spatial":
+        raise InputError(f"{path}: a spatial mechanism; this command takes planar ones (spatial files: domes "
+                         "kinematics, docs/spatial.md)")
+    return Mechanism.from_dict(data, str(path))
+
+
+def is_spatial(path: str | Path) -> bool:
+    """Whether a mechanism file is spatial (it says ``"space": "spatial"``)."""
+    data = _json(path)
+    return isinstance(data, dict) and data.get("space") == "spatial"
+
+
+def load_spatial(path: str | Path) -> SpatialMechanism:
+    """Read a spatial mechanism file (JSON, ``docs/spatial.md``). Errors name the file, line and field."""
+    return SpatialMechanism.from_dict(_json(path), str(path))
+
+
+def save_spatial(mechanism: SpatialMechanism, path: str | Path) -> None:
+    """Write a spatial mechanism file (JSON, angles in degrees) atomically."""
+    write_atomic(path, json.dumps(mechanism.to_dict(), indent=1) + "\n")
 
 
 def load_scriber_task(path: str | Path):

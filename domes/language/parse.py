@@ -16,7 +16,7 @@ ForAll(domain=Domain(kind='vertex', name='swing_arm'), condition=Adjacent(role='
 >>> parse_criterion("every vertex must have type (G P R")
 Traceback (most recent call last):
 ...
-domes.language.parse.CriterionSyntaxError: column 35: expected a joint type letter (R P G C O S H F Fp Fr) or ')', found the end of the text
+domes.language.parse.CriterionSyntaxError: column 35: expected a joint type letter (R P G C O S H F Fp Fr Cyl Sph Hel) or ')', found the end of the text
 """
 
 from __future__ import annotations

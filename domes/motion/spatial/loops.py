@@ -41,6 +41,8 @@ from domes.model.spatial import SpatialMechanism
 #: Newton stops when its correction is below this (relative to the size); the residual is then ~1e-15.
 TOL = 1e-13
 MAX_ITERATIONS = 50
+#: Newton gives up after this many steps in a row that do not halve the residual.
+STALL = 4
 #: Beyond this condition number of the scaled Jacobian the configuration is reported singular.
 SINGULAR = 1e8
 
@@ -300,8 +302,14 @@ class Loops:
     def positions(self, values: dict, guess: State | None = None) -> tuple[State, float]:
         """The poses at the input values (rad, lengths), by Newton from ``guess`` (default the drawn pose)."""
         s = (guess or self.drawn()).copy()
+        slow, last = 0, math.inf
         for _ in range(MAX_ITERATIONS):
             J, f = self._jacobian(s, values)
+            size = float(np.max(np.abs(f))) if f.size else 0.0
+            slow = slow + 1 if size > 0.5 * last else 0
+            if slow >= STALL:        # no longer converging quadratically: no solution near the guess
+                break
+            last = size
             dx = np.linalg.lstsq(J, -f, rcond=None)[0]
             self._update(s, dx)
             if np.max(np.abs(dx)) < self.tol:

@@ -113,17 +113,18 @@ def spatial_sweep(mech: SpatialMechanism, start: float, stop: float, step: float
     def take(q_from, q_to, s):
         """Walk from ``q_from`` (state ``s``) to ``q_to``; the state there, or the Limit met."""
         q = q_from
+        size = h
         while q != q_to:
             dq = q_to - q
-            dq = math.copysign(min(abs(dq), h), dq)
+            dq = math.copysign(min(abs(dq), size), dq)
             while True:
                 target = q + dq
                 if abs(q_to - target) <= 1e-12 * max(1.0, abs(q_to)):
                     target, dq = q_to, q_to - q
                 try:
-                    guess, size = _predict(kin, s, joint, dq)
+                    guess, ahead = _predict(kin, s, joint, dq)
                     nxt, _ = kin.positions({**others, joint: target}, guess)
-                    if _distance(guess, nxt) <= 0.25 * size + 1e-9 and _distance(s, nxt) <= JUMP:
+                    if _distance(guess, nxt) <= 0.25 * ahead + 1e-9 and _distance(s, nxt) <= JUMP:
                         break
                     why = "a jump to another assembly mode"
                 except NumericalError:
@@ -133,6 +134,7 @@ def spatial_sweep(mech: SpatialMechanism, start: float, stop: float, step: float
                                                    f"{_fmt(locate, angular)})")
                 dq /= 2
             q, s = target, nxt
+            size = min(h, 2 * abs(dq))  # after a halved step, grow back gradually
         return s, None
 
     state, limit = take(0.0, float(grid[0]), state)
