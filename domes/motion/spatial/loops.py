@@ -275,6 +275,11 @@ class Loops:
 
     # -- solving ----------------------------------------------------------------------------------
 
+    def key(self, i) -> str:
+        """How an input's value is named: its joint, or ``joint.variable`` when both of a C joint's are driven."""
+        both = sum(1 for x in self.inputs if x.joint == i.joint) > 1
+        return f"{i.joint}.{i.variable}" if both else i.joint
+
     def _jacobian(self, s: State, values: dict | None = None, inputs: bool = True, unwrap: dict | None = None):
         rows, res = [], []
         for eq in self.equations:
@@ -284,7 +289,7 @@ class Loops:
         if inputs:
             for i in self.inputs:
                 v, row, _ = self._variable(i.joint, i.variable, s)
-                target = (values or {}).get(i.joint, 0.0)
+                target = (values or {}).get(self.key(i), 0.0)
                 if i.variable == "angle":
                     d = v - target
                     res.append((d + math.pi) % (2 * math.pi) - math.pi)
@@ -300,7 +305,8 @@ class Loops:
             s.R[k] = rotation(d[k, 3:]) @ s.R[k]
 
     def positions(self, values: dict, guess: State | None = None) -> tuple[State, float]:
-        """The poses at the input values (rad, lengths), by Newton from ``guess`` (default the drawn pose)."""
+        """The poses at the input values (rad, lengths; by :meth:`key`), by Newton from ``guess`` (default the
+        drawn pose)."""
         s = (guess or self.drawn()).copy()
         slow, last = 0, math.inf
         for _ in range(MAX_ITERATIONS):
@@ -336,7 +342,7 @@ class Loops:
         m = len(self.equations)
         rhs = np.zeros(J.shape[0])
         for k, i in enumerate(self.inputs):
-            rate = (speeds or {}).get(i.joint, i.speed)
+            rate = (speeds or {}).get(self.key(i), i.speed)
             rhs[m + k] = rate if i.variable == "angle" else rate / self.scale
         xd = np.linalg.lstsq(J, rhs, rcond=None)[0]
         if order == 1:
@@ -345,7 +351,7 @@ class Loops:
         for n, eq in enumerate(self.equations):
             rhs[n] = -self._scalar(eq, s, xd)[2]
         for k, i in enumerate(self.inputs):
-            acc = (accelerations or {}).get(i.joint, i.acceleration)
+            acc = (accelerations or {}).get(self.key(i), i.acceleration)
             rhs[m + k] = (acc if i.variable == "angle" else acc / self.scale) - self._variable(i.joint, i.variable, s, xd)[2]
         return xd, np.linalg.lstsq(J, rhs, rcond=None)[0]
 
