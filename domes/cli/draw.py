@@ -9,7 +9,7 @@ import os
 from domes.cli.common import write_output
 from domes.cli.kinematics import parse_sweep
 from domes.errors import InputError
-from domes.io.mechanisms import load_mechanism
+from domes.io.mechanisms import is_spatial, load_mechanism, load_spatial
 from domes.model import JOINT_TYPES, LabelledChain
 from domes.model.chain import Chain
 from domes.motion import PRESETS
@@ -116,6 +116,8 @@ def draw_mechanism_file(args: argparse.Namespace) -> int:
     if given:
         raise InputError(f"{', '.join(given)}: only for a chain (graph6); a mechanism file has its own ground, inputs and joints")
     size = _size(args.size, 400.0)
+    if is_spatial(args.graph6):
+        return _draw_spatial(args, size)
     mech = load_mechanism(args.graph6)
     scale = math.radians if mech.joint(mech.inputs[0].joint).kind == "R" else float
     q = None if args.at is None else scale(args.at)
@@ -126,4 +128,42 @@ def draw_mechanism_file(args: argparse.Namespace) -> int:
         write_output(atlas_html([card], mech.name), args.output)
     else:
         write_output(svg + "\n", args.output)
+    return 0
+
+
+def _draw_spatial(args: argparse.Namespace, size: float) -> int:
+    """A spatial mechanism file: an axonometric SVG at ``--at``, or (html) a page that turns and plays a sweep."""
+    from domes.motion.spatial.loops import Loops
+    from domes.motion.spatial.sweep import spatial_sweep
+    from domes.sketch.spatial import spatial_html, spatial_svg
+
+    mech = load_spatial(args.graph6)
+    if not mech.inputs:
+        raise InputError(f"{args.graph6}: the mechanism has no input")
+    first = mech.inputs[0]
+    angular = first.variable == "angle"
+    scale = math.radians if angular else float
+    names = {j.name for j in mech.joints} | {p.name for p in mech.points}
+    unknown = [c for c in args.coupler if c not in names]
+    if unknown:
+        raise InputError(f"--coupler {unknown}: not joints or points of {mech.name} ({sorted(names)})")
+    kin = Loops(mech)
+    if args.sweep:
+        start, stop, step = parse_sweep(args.sweep, scale)
+    else:
+        start, stop, step = (0.0, 2 * math.pi, math.radians(5)) if angular else (0.0, 0.1 * mech.size, 0.005 * mech.size)
+    if args.format == "html" or args.coupler:
+        sw = spatial_sweep(mech, start, stop, step)
+        frames = [kin.places(s) for s in sw.states]
+    if args.format == "html":
+        unit = "°" if angular else ""
+        shown = [math.degrees(q) for q in sw.inputs] if angular else list(sw.inputs)
+        summary = (f"{sw.message}. Drag the drawing or use the sliders to turn it; play moves it through the sweep.")
+        write_output(spatial_html(mech, frames, shown, first.joint, unit, args.coupler, size=max(size, 520.0),
+                                  summary=summary), args.output)
+        return 0
+    q = 0.0 if args.at is None else scale(args.at)
+    state = spatial_sweep(mech, q, q, None).states[-1] if q else kin.drawn()
+    traces = {c: [f[c] for f in frames] for c in args.coupler} if args.coupler else None
+    write_output(spatial_svg(mech, kin.places(state), traces, size) + "\n", args.output)
     return 0

@@ -176,3 +176,37 @@ def test_the_dynamics_pages_render(tmp_path):
                 assert float(rows[card][2]) > 250             # every curve spans the plot
         if "contour" in expected:
             assert dom.count('class="junction"') == 4 and dom.count('class="pivot"') == 2
+
+
+SPATIAL_PROBE = """<script>
+window.addEventListener("load", function () {
+  var v = window.domesView, out = [];
+  function where() { var c = document.querySelectorAll("circle.joint")[2]; return [+c.getAttribute("cx"), +c.getAttribute("cy")]; }
+  out.push("joints " + document.querySelectorAll(".joint").length + " bars " + document.querySelectorAll("line.bar").length +
+           " axes " + document.querySelectorAll("line.axis").length + " traces " + document.querySelectorAll("polyline.trace").length);
+  var a = where(); v.turn(60, 10); var b = where(); v.frame(18); var c = where();
+  out.push("turned " + (Math.abs(a[0] - b[0]) + Math.abs(a[1] - b[1]) > 1) + " moved " + (Math.abs(b[0] - c[0]) + Math.abs(b[1] - c[1]) > 1));
+  v.frame(0); v.play();
+  setTimeout(function () {
+    v.pause();
+    out.push("played " + v.state().step);
+    var pre = document.createElement("pre"); pre.id = "report"; pre.textContent = out.join("\\n"); document.body.appendChild(pre);
+  }, 1000);
+});
+</script>"""
+
+
+def test_the_spatial_page_turns_and_plays(tmp_path):
+    # domes draw FILE.json --format html on a spatial file (issue 15, item 5): drawn in the browser from the
+    # sweep's frames; turning moves the picture, a frame moves the mechanism, play steps through the sweep
+    import sys
+
+    out = subprocess.run([sys.executable, "-m", "domes", "draw", "examples/spatial/rssr-seed001.json", "--format",
+                          "html", "--coupler", "B"], capture_output=True, text=True, check=True)
+    path = tmp_path / "rssr.html"
+    path.write_text(out.stdout.replace("</body>", SPATIAL_PROBE + "</body>"), encoding="utf-8")
+    dom = _chromium("--virtual-time-budget=5000", "--dump-dom", path.as_uri()).stdout
+    report = re.search(r'<pre id="report">(.*?)</pre>', dom, re.S).group(1).strip().splitlines()
+    assert report[0] == "joints 4 bars 3 axes 2 traces 1"          # crank, coupler, rocker; the two ground axes
+    assert report[1] == "turned true moved true"
+    assert int(report[2].split()[1]) > 5                            # about 16 frames a second

@@ -384,6 +384,15 @@ class Loops:
                 out[f"{kind}:{target}" + "'" * k] = float(c)
         return out
 
+    def places(self, s: State) -> dict:
+        """World positions (the file's units) of every joint (on its second link) and point in state ``s``."""
+        out = {}
+        for j in self.mech.joints:
+            out[j.name] = self._world(self._point(j.links[1], j.at), s) * self.scale
+        for p in self.mech.points:
+            out[p.name] = self._world(self._point(p.link, p.at), s) * self.scale
+        return out
+
     def at(self, values: dict, guess: State | None = None, order: int | None = None) -> "SpatialStep":
         """One configuration at the input values (rad, lengths; inputs not given stay at their drawn 0)."""
         order = self.order if order is None else order
