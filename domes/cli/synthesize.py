@@ -15,14 +15,15 @@ import argparse
 import json
 import math
 
-from domes.cli.common import parallel_options, progress_printer, write_output
+from domes.cli.common import finite_json, parallel_options, progress_printer, write_output
 from domes.design.synthesis import synthesize
 from domes.design.synthesis.candidate import Dimensioning
 from domes.design.synthesis.fourbars import SliderCrank
 from domes.design.synthesis.solve import generator_fourbar
+from domes.errors import InputError
 from domes.execution import InProcess, executor
 from domes.io.files import check_target
-from domes.io.tasks import load_task
+from domes.io.tasks import load_spatial_task, load_task
 from domes.sketch.synthesis import synthesis_html
 
 
@@ -54,6 +55,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args) -> int:
     if args.output:
         check_target(args.output)
+    spatial = load_spatial_task(args.task)
+    if spatial is not None:
+        return _spatial(args, spatial)
     task = load_task(args.task)
     with executor(args.workers, args.scheduler) as run_on:
         result = synthesize(task, args.method, args.seeds, progress=progress_printer(),
@@ -156,3 +160,19 @@ def _curve_text(result, everything: bool) -> str:
     if not everything and len(result.usable) < len(result.solutions):
         lines.append(f"# {len(result.solutions) - len(result.usable)} rejected layout(s) not shown (--all lists them)")
     return "\n".join(lines) + "\n"
+
+
+def _spatial(args, task) -> int:
+    """A spatial task (spherical guidance, spherical function generation, the RCCC of seed 004)."""
+    from domes.design.synthesis.spatialtask import solve_spatial
+
+    if args.format == "html":
+        raise InputError("--format html is for planar tasks; draw a spatial solution with domes draw (save it with "
+                         "--format json)")
+    result = solve_spatial(task)
+    if args.format == "json":
+        text = json.dumps(finite_json(result.to_dict()), indent=1) + "\n"
+    else:
+        text = "\n".join([f"# {result.message}"] + list(result.lines[1:])) + "\n"
+    write_output(text, args.output)
+    return 0 if result.success else 1

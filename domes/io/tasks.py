@@ -14,11 +14,27 @@ import json
 from pathlib import Path
 
 from domes.design.synthesis.candidate import CurveTask
+from domes.design.synthesis.spatialtask import KINDS as SPATIAL_KINDS
+from domes.design.synthesis.spatialtask import spatial_task_from_dict
 from domes.design.synthesis.task import task_from_dict
 from domes.errors import InputError
 from domes.io.files import read_text
 from domes.io.scenes import load_scene
 from domes.typesynth.regenerate import regenerate
+
+
+def load_spatial_task(path: str | Path):
+    """A spatial synthesis task (``kind`` spherical-guidance, spherical-function or rccc), or None for a planar one."""
+    text = read_text(path)
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}") from None
+    if not (isinstance(data, dict) and data.get("kind") in SPATIAL_KINDS):
+        return None
+    if "name" not in data:
+        data = {**data, "name": Path(path).stem}
+    return spatial_task_from_dict(data, str(path))
 
 
 def load_task(path: str | Path, candidates=None):

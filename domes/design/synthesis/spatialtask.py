@@ -1,0 +1,233 @@
+"""Spatial synthesis tasks: what a task file asks, and the solution with the numbers that show its quality.
+
+Three kinds (format in ``docs/spatial.md``):
+
+- ``spherical-guidance``: measured positions (two body points ``p``, ``q`` per
+  position, on the unit sphere), checked for rigidity; the cranks for four
+  positions with one coordinate of the fixed pivot fixed (``fix``), or three
+  positions in closed form;
+- ``spherical-function``: a spherical four-bar function generator for three
+  precision points ``(θ, φ)`` (degrees), output axis at ``alpha_deg``, a chosen
+  output pivot ``b1``; each solution moved by the spatial solver to its points;
+- ``rccc``: four poses (an orientation by three angles with a named
+  ``convention``, or a rotation matrix; a position), the RCCC of seed 004,
+  labelled exact or approximate.
+
+>>> t = spatial_task_from_dict({"kind": "spherical-function", "alpha_deg": 70,
+...     "precision_deg": [[0, 0], [20, 15], [45, 40]], "b1": [0.2, 0.5, 0.8]}, "doc")
+>>> r = solve_spatial(t)
+>>> r.success, len(r.mechanisms), r.worst < 1e-9
+(True, 2, True)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from domes.design.synthesis import rccc as rc
+from domes.design.synthesis import sphere
+from domes.design.synthesis.spherical import centre_points_three
+from domes.errors import InputError
+from domes.model.fields import check_keys, read_number
+from domes.model.spatial import SpatialInput, SpatialJoint, SpatialMechanism
+from domes.results import Result, Status
+
+KINDS = ("spherical-guidance", "spherical-function", "rccc")
+
+
+@dataclass(frozen=True)
+class SphericalGuidanceTask:
+    name: str
+    p: np.ndarray
+    q: np.ndarray
+    fix: tuple[tuple[str, float], ...]
+
+
+@dataclass(frozen=True)
+class SphericalFunctionTask:
+    name: str
+    alpha: float
+    thetas: tuple[float, ...]
+    phis: tuple[float, ...]
+    b1: np.ndarray
+
+
+@dataclass(frozen=True)
+class RCCCTask:
+    name: str
+    moves: tuple
+    meridians: int = 180
+    tolerance: float = 1e-9
+    convention: str = ""
+
+
+def _vec(value, n: int, where: str) -> np.ndarray:
+    if not isinstance(value, list) or len(value) != n:
+        raise InputError(f"{where}: expected {n} numbers, got {value!r}")
+    return np.array([read_number(v, f"{where}[{k}]") for k, v in enumerate(value)])
+
+
+def spatial_task_from_dict(data, where: str = "task"):
+    """The task of a parsed task file; an :class:`~domes.errors.InputError` names the entry that is wrong."""
+    if not isinstance(data, dict) or data.get("kind") not in KINDS:
+        raise InputError(f"{where}: a spatial task's 'kind' is one of {', '.join(KINDS)}")
+    kind, name = data["kind"], str(data.get("name", where))
+    if kind == "spherical-guidance":
+        check_keys(data, {"kind", "name", "comment", "positions", "fix"}, {"kind", "positions"}, where)
+        raw = data["positions"]
+        if not isinstance(raw, list) or not 3 <= len(raw) <= 4:
+            raise InputError(f"{where}: positions: three or four, each {{'p': [x, y, z], 'q': [x, y, z]}}")
+        p, q = [], []
+        for k, item in enumerate(raw, 1):
+            check_keys(item, {"p", "q"}, {"p", "q"}, f"{where}: positions[{k}]")
+            p.append(_vec(item["p"], 3, f"{where}: positions[{k}].p"))
+            q.append(_vec(item["q"], 3, f"{where}: positions[{k}].q"))
+        fix = data.get("fix", {})
+        if not isinstance(fix, dict) or any(k not in ("a0x", "a0y", "a0z") for k in fix):
+            raise InputError(f"{where}: fix: {{'a0x': value}} (or a0y, a0z), one or more cranks' fixed coordinate")
+        if len(raw) == 4 and not fix:
+            raise InputError(f"{where}: four positions leave a crank one free choice: give 'fix', e.g. "
+                             "{'a0x': -0.25}")
+        return SphericalGuidanceTask(name, np.array(p), np.array(q),
+                                     tuple((k[-1], read_number(v, f"{where}: fix.{k}")) for k, v in fix.items()))
+    if kind == "spherical-function":
+        check_keys(data, {"kind", "name", "comment", "alpha_deg", "precision_deg", "b1"},
+                   {"kind", "alpha_deg", "precision_deg", "b1"}, where)
+        pts = data["precision_deg"]
+        if not isinstance(pts, list) or len(pts) != 3:
+            raise InputError(f"{where}: precision_deg: three [θ, φ] pairs (degrees), the first [0, 0]")
+        pairs = [_vec(x, 2, f"{where}: precision_deg[{k}]") for k, x in enumerate(pts)]
+        if np.any(pairs[0]):
+            raise InputError(f"{where}: precision_deg: the first pair is the reference, [0, 0]")
+        b1 = _vec(data["b1"], 3, f"{where}: b1")
+        if np.linalg.norm(b1) == 0:
+            raise InputError(f"{where}: b1 has no direction")
+        return SphericalFunctionTask(name, math.radians(read_number(data["alpha_deg"], f"{where}: alpha_deg")),
+                                     tuple(math.radians(x[0]) for x in pairs), tuple(math.radians(x[1]) for x in pairs),
+                                     b1 / np.linalg.norm(b1))
+    check_keys(data, {"kind", "name", "comment", "convention", "poses", "meridians", "tolerance"},
+               {"kind", "poses"}, where)
+    raw = data["poses"]
+    if not isinstance(raw, list) or len(raw) != 4:
+        raise InputError(f"{where}: poses: four, each {{'angles_deg': [a, b, c], 'position': [x, y, z]}} (with a "
+                         "'convention') or {'rotation': [[...], [...], [...]], 'position': [...]}")
+    convention = data.get("convention", "")
+    rotations, positions = [], []
+    for k, item in enumerate(raw, 1):
+        w = f"{where}: poses[{k}]"
+        check_keys(item, {"angles_deg", "rotation", "position"}, {"position"}, w)
+        positions.append(_vec(item["position"], 3, f"{w}.position"))
+        if "rotation" in item:
+            rows = item["rotation"]
+            if not isinstance(rows, list) or len(rows) != 3:
+                raise InputError(f"{w}.rotation: three rows of three numbers")
+            rotations.append(np.array([_vec(r, 3, f"{w}.rotation") for r in rows]))
+        elif "angles_deg" in item:
+            if not convention:
+                raise InputError(f"{w}: angles need the task's 'convention' ({', '.join(rc.CONVENTIONS)}); the paper "
+                                 "names none, so none is implied")
+            rotations.append(rc.pose_rotation(_vec(item["angles_deg"], 3, f"{w}.angles_deg"), convention))
+        else:
+            raise InputError(f"{w}: give its orientation: 'angles_deg' (with a 'convention') or 'rotation'")
+    meridians = data.get("meridians", 180)
+    if not (isinstance(meridians, int) and 12 <= meridians <= 3600):
+        raise InputError(f"{where}: meridians: an integer from 12 to 3600, got {meridians!r}")
+    tolerance = read_number(data.get("tolerance", 1e-9), f"{where}: tolerance")
+    if not 0 < tolerance < 1:
+        raise InputError(f"{where}: tolerance must be in (0, 1), got {tolerance}")
+    return RCCCTask(name, tuple(rc.displacements(rotations, positions)), meridians, tolerance, convention)
+
+
+@dataclass(frozen=True, eq=False)
+class SpatialSynthesis(Result):
+    """Solutions of a spatial task: ``lines`` of text, ``mechanisms`` (spatial mechanism files where the task
+    gives a linkage), ``worst`` (the largest residual or pose error), ``details`` for JSON."""
+
+    name: str
+    kind: str
+    status: Status
+    lines: tuple[str, ...]
+    mechanisms: tuple[SpatialMechanism, ...] = ()
+    worst: float = 0.0
+    details: dict = field(default_factory=dict)
+
+    @property
+    def message(self) -> str:
+        return f"{self.status}: {self.name} ({self.kind}): " + (self.lines[0] if self.lines else "nothing found")
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "kind": self.kind, "status": str(self.status), "message": self.message,
+                "lines": list(self.lines), "worst": self.worst, **self.details,
+                "mechanisms": [m.to_dict() for m in self.mechanisms]}
+
+
+def _spherical_fourbar(alpha: float, a1, b1, name: str) -> SpatialMechanism:
+    u = (math.cos(alpha), math.sin(alpha), 0.0)
+    joints = (SpatialJoint("A0", "R", ("frame", "input"), (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)),
+              SpatialJoint("A", "R", ("input", "coupler"), tuple(map(float, a1)), tuple(map(float, a1))),
+              SpatialJoint("B", "R", ("coupler", "output"), tuple(map(float, b1)), tuple(map(float, b1))),
+              SpatialJoint("B0", "R", ("frame", "output"), u, u))
+    return SpatialMechanism.build(name, ("frame", "input", "coupler", "output"), "frame", joints, (SpatialInput("A0"),))
+
+
+def solve_spatial(task) -> SpatialSynthesis:
+    """Solve a spatial task; every solution checked (residuals, or the linkage moved by the spatial solver)."""
+    from domes.motion.spatial.sweep import spatial_sweep
+
+    if isinstance(task, SphericalGuidanceTask):
+        Ds = sphere.rotations(task.p, task.q)
+        toward = task.p[0] + task.q[0]
+        out, cranks = [], []
+        if len(Ds) == 3:
+            for a0 in centre_points_three(task.p[0], task.p[1], task.p[2]):
+                cranks.append(sphere.Crank(a0, task.p[0], float(np.ptp([np.linalg.norm(p - a0) for p in task.p]))))
+            out.append("three positions: the fixed pivots of the crank through point p, (2-92)-(2-96)")
+        else:
+            for axis, value in task.fix:
+                found = sphere.crank_with(Ds, axis, value, toward)
+                out.append(f"a0{axis} = {value:g}: {len(found)} cranks")
+                cranks += found
+        for c in cranks:
+            out.append(f"  a0 = ({c.a0[0]:.6f}, {c.a0[1]:.6f}, {c.a0[2]:.6f}), a1 = ({c.a1[0]:.6f}, {c.a1[1]:.6f}, "
+                       f"{c.a1[2]:.6f}), arc {math.degrees(c.arc):.4f}°, spread {c.spread:.2g}")
+        worst = max((c.spread for c in cranks), default=0.0)
+        check = sphere.rigidity(task.p, task.q)
+        return SpatialSynthesis(task.name, "spherical-guidance", Status.COMPLETE if cranks else Status.EMPTY,
+                                tuple(out), (), worst, {"rigidity": check.message, "cranks": [
+                                    {"a0": c.a0.tolist(), "a1": c.a1.tolist(), "spread": c.spread} for c in cranks]})
+    if isinstance(task, SphericalFunctionTask):
+        out, mechs, worst = [], [], 0.0
+        for k, gen in enumerate(sphere.function_three(task.alpha, task.thetas, task.phis, task.b1), 1):
+            mech = _spherical_fourbar(task.alpha, gen.a1, task.b1, f"{task.name} solution {k}")
+            sw = spatial_sweep(mech, 0.0, task.thetas[-1], math.radians(1.0), outputs=["angle:B0"])
+            got = []
+            for theta, phi in zip(task.thetas, task.phis):
+                i = int(np.argmin(np.abs(sw.inputs - theta)))
+                if abs(sw.inputs[i] - theta) > 1e-12:
+                    got.append(math.inf)
+                    continue
+                got.append(abs(math.remainder(sw.table["angle:B0"][i] - phi, 2 * math.pi)))
+            worst = max(worst, max(got))
+            out.append(f"solution {k}: a1 = ({gen.a1[0]:.6f}, {gen.a1[1]:.6f}, {gen.a1[2]:.6f}), coupler arc "
+                       f"{math.degrees(gen.coupler):.4f}°; moved to its precision points: output error "
+                       f"{max(got):.2g} rad" + ("" if sw.limit is None else f" ({sw.limit.message})"))
+            mechs.append(mech)
+        return SpatialSynthesis(task.name, "spherical-function", Status.COMPLETE, tuple(out), tuple(mechs), worst)
+    sol = rc.search(list(task.moves), task.meridians, task.tolerance)
+    lines = [sol.message, f"input angles {', '.join(f'{math.degrees(t):.4f}°' for t in sol.thetas)}"]
+    for k, (p, u) in enumerate(sol.lines):
+        lines.append(f"  z{k}: point ({p[0]:.6g}, {p[1]:.6g}, {p[2]:.6g}), direction ({u[0]:.6f}, {u[1]:.6f}, "
+                     f"{u[2]:.6f})")
+    return SpatialSynthesis(task.name, "rccc", Status.COMPLETE, tuple(lines), (sol.mechanism(),),
+                            max(max(sol.rotation_errors), max(sol.translation_errors)),
+                            {"label": sol.label, "slides": list(sol.slides), "thetas_deg": [math.degrees(t) for t in sol.thetas],
+                             "rotation_errors": list(sol.rotation_errors),
+                             "translation_errors": list(sol.translation_errors), "notes": list(sol.notes),
+                             "convention": task.convention or "rotation matrices"})
+
+
+__all__ = ["KINDS", "RCCCTask", "SpatialSynthesis", "SphericalFunctionTask", "SphericalGuidanceTask", "solve_spatial",
+           "spatial_task_from_dict"]
