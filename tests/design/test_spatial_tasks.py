@@ -75,3 +75,19 @@ def test_the_printed_example_3_is_refused(tmp_path, capsys):
 def test_planar_tasks_are_not_spatial():
     assert load_spatial_task("examples/synthesis/ch2-example-4.json") is None
     assert load_task("examples/synthesis/ch2-example-4.json") is not None
+
+
+def test_a_guiding_link_task_finds_the_planted_link(tmp_path, capsys):
+    data = json.loads(open("examples/synthesis/guiding-link-rr.json").read())
+    data["starts"] = 16
+    path = tmp_path / "rr.json"
+    path.write_text(json.dumps(data))
+    status, out, _ = run(capsys, str(path), "--format", "json")
+    doc = json.loads(out)
+    u0 = np.array([0.2, 0.1, 1.0]) / np.linalg.norm([0.2, 0.1, 1.0])
+    assert status == 0 and any(abs(abs(np.array(g["u0"]) @ u0) - 1) < 1e-9 and np.linalg.norm(g["a0"]) < 1e-9
+                               for g in doc["links"])
+    data["link"] = "S-P"
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError, match="link: one of S-S"):
+        load_spatial_task(path)

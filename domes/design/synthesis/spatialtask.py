@@ -11,7 +11,9 @@ Three kinds (format in ``docs/spatial.md``):
   output pivot ``b1``; each solution moved by the spatial solver to its points;
 - ``rccc``: four poses (an orientation by three angles with a named
   ``convention``, or a rotation matrix; a position), the RCCC of seed 004,
-  labelled exact or approximate.
+  labelled exact or approximate;
+- ``guiding-link``: poses as for ``rccc`` and a ``link`` (S-S, R-S, R-R,
+  R-C, C-C) with its free choices ``fixed``: every link found.
 
 >>> t = spatial_task_from_dict({"kind": "spherical-function", "alpha_deg": 70,
 ...     "precision_deg": [[0, 0], [20, 15], [45, 40]], "b1": [0.2, 0.5, 0.8]}, "doc")
@@ -27,15 +29,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from domes.design.synthesis import links, sphere
 from domes.design.synthesis import rccc as rc
-from domes.design.synthesis import sphere
 from domes.design.synthesis.spherical import centre_points_three
 from domes.errors import InputError
 from domes.model.fields import check_keys, read_number
 from domes.model.spatial import SpatialInput, SpatialJoint, SpatialMechanism
 from domes.results import Result, Status
 
-KINDS = ("spherical-guidance", "spherical-function", "rccc")
+KINDS = ("spherical-guidance", "spherical-function", "rccc", "guiding-link")
 
 
 @dataclass(frozen=True)
@@ -53,6 +55,15 @@ class SphericalFunctionTask:
     thetas: tuple[float, ...]
     phis: tuple[float, ...]
     b1: np.ndarray
+
+
+@dataclass(frozen=True)
+class GuidingLinkTask:
+    name: str
+    link: str
+    moves: tuple
+    fixed: tuple[tuple[str, float], ...]
+    starts: int = 48
 
 
 @dataclass(frozen=True)
@@ -108,12 +119,41 @@ def spatial_task_from_dict(data, where: str = "task"):
         return SphericalFunctionTask(name, math.radians(read_number(data["alpha_deg"], f"{where}: alpha_deg")),
                                      tuple(math.radians(x[0]) for x in pairs), tuple(math.radians(x[1]) for x in pairs),
                                      b1 / np.linalg.norm(b1))
+    if kind == "guiding-link":
+        check_keys(data, {"kind", "name", "comment", "link", "convention", "poses", "fixed", "starts"},
+                   {"kind", "link", "poses"}, where)
+        if data["link"] not in links.KINDS:
+            raise InputError(f"{where}: link: one of {', '.join(links.KINDS)}, got {data['link']!r}")
+        rotations, positions = _poses(data, where, None)
+        moves = rc.displacements(rotations, positions)
+        fixed = data.get("fixed", {})
+        if not isinstance(fixed, dict):
+            raise InputError(f"{where}: fixed: {{'a0x': value, ...}}")
+        starts = data.get("starts", 48)
+        if not (isinstance(starts, int) and 1 <= starts <= 10_000):
+            raise InputError(f"{where}: starts: an integer from 1 to 10,000, got {starts!r}")
+        return GuidingLinkTask(name, data["link"], ((np.eye(3), np.zeros(3)),) + tuple((m.C, m.d) for m in moves),
+                               tuple((k, read_number(v, f"{where}: fixed.{k}")) for k, v in fixed.items()), starts)
     check_keys(data, {"kind", "name", "comment", "convention", "poses", "meridians", "tolerance"},
                {"kind", "poses"}, where)
+    rotations, positions = _poses(data, where, 4)
+    convention = data.get("convention", "")
+    meridians = data.get("meridians", 180)
+    if not (isinstance(meridians, int) and 12 <= meridians <= 3600):
+        raise InputError(f"{where}: meridians: an integer from 12 to 3600, got {meridians!r}")
+    tolerance = read_number(data.get("tolerance", 1e-9), f"{where}: tolerance")
+    if not 0 < tolerance < 1:
+        raise InputError(f"{where}: tolerance must be in (0, 1), got {tolerance}")
+    return RCCCTask(name, tuple(rc.displacements(rotations, positions)), meridians, tolerance, convention)
+
+
+def _poses(data, where: str, count: int | None):
+    """The rotations and positions of a task's poses (angles with the task's convention, or matrices)."""
     raw = data["poses"]
-    if not isinstance(raw, list) or len(raw) != 4:
-        raise InputError(f"{where}: poses: four, each {{'angles_deg': [a, b, c], 'position': [x, y, z]}} (with a "
-                         "'convention') or {'rotation': [[...], [...], [...]], 'position': [...]}")
+    if not isinstance(raw, list) or (count is not None and len(raw) != count) or len(raw) < 2:
+        raise InputError(f"{where}: poses: {'four' if count else 'two or more'}, each {{'angles_deg': [a, b, c], "
+                         "'position': [x, y, z]} (with a 'convention') or {'rotation': [[...], [...], [...]], "
+                         "'position': [...]}")
     convention = data.get("convention", "")
     rotations, positions = [], []
     for k, item in enumerate(raw, 1):
@@ -132,13 +172,7 @@ def spatial_task_from_dict(data, where: str = "task"):
             rotations.append(rc.pose_rotation(_vec(item["angles_deg"], 3, f"{w}.angles_deg"), convention))
         else:
             raise InputError(f"{w}: give its orientation: 'angles_deg' (with a 'convention') or 'rotation'")
-    meridians = data.get("meridians", 180)
-    if not (isinstance(meridians, int) and 12 <= meridians <= 3600):
-        raise InputError(f"{where}: meridians: an integer from 12 to 3600, got {meridians!r}")
-    tolerance = read_number(data.get("tolerance", 1e-9), f"{where}: tolerance")
-    if not 0 < tolerance < 1:
-        raise InputError(f"{where}: tolerance must be in (0, 1), got {tolerance}")
-    return RCCCTask(name, tuple(rc.displacements(rotations, positions)), meridians, tolerance, convention)
+    return rotations, positions
 
 
 @dataclass(frozen=True, eq=False)
@@ -216,6 +250,19 @@ def solve_spatial(task) -> SpatialSynthesis:
                        f"{max(got):.2g} rad" + ("" if sw.limit is None else f" ({sw.limit.message})"))
             mechs.append(mech)
         return SpatialSynthesis(task.name, "spherical-function", Status.COMPLETE, tuple(out), tuple(mechs), worst)
+    if isinstance(task, GuidingLinkTask):
+        found = links.guiding_links(task.link, list(task.moves), dict(task.fixed) or None, task.starts)
+        out = [f"{len(found)} {task.link} link(s) from {task.starts} starts"]
+        fmt = lambda v: "—" if v is None else f"({v[0]:.6g}, {v[1]:.6g}, {v[2]:.6g})"  # noqa: E731
+        for k, g in enumerate(found, 1):
+            out.append(f"  {k}. a0 {fmt(g.a0)}, u0 {fmt(g.u0)}, a1 {fmt(g.a1)}, u1 {fmt(g.u1)}; residual "
+                       f"{g.residual:.1e}, check {links.check(g, list(task.moves)):.1e}")
+        worst = max((links.check(g, list(task.moves)) for g in found), default=0.0)
+        return SpatialSynthesis(task.name, "guiding-link", Status.COMPLETE if found else Status.EMPTY, tuple(out), (),
+                                worst, {"links": [{"a0": g.a0.tolist(), "a1": g.a1.tolist(),
+                                                   "u0": None if g.u0 is None else g.u0.tolist(),
+                                                   "u1": None if g.u1 is None else g.u1.tolist(),
+                                                   "residual": g.residual} for g in found]})
     sol = rc.search(list(task.moves), task.meridians, task.tolerance)
     lines = [sol.message, f"input angles {', '.join(f'{math.degrees(t):.4f}°' for t in sol.thetas)}"]
     for k, (p, u) in enumerate(sol.lines):
@@ -229,5 +276,5 @@ def solve_spatial(task) -> SpatialSynthesis:
                              "convention": task.convention or "rotation matrices"})
 
 
-__all__ = ["KINDS", "RCCCTask", "SpatialSynthesis", "SphericalFunctionTask", "SphericalGuidanceTask", "solve_spatial",
+__all__ = ["GuidingLinkTask", "KINDS", "RCCCTask", "SpatialSynthesis", "SphericalFunctionTask", "SphericalGuidanceTask", "solve_spatial",
            "spatial_task_from_dict"]
