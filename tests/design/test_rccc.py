@@ -303,8 +303,8 @@ def test_the_search_finds_the_planted_rccc():
     from domes.design.synthesis.rccc import search
 
     sol = search(MOVES, meridians=90)
-    assert max(np.abs(sol.slides)) <= 1e-6 and max(sol.rotation_errors) <= 1e-9
-    assert max(sol.translation_errors) <= 1e-6 * 76.0
+    assert max(np.abs(sol.slides)) <= 1e-9 and max(sol.rotation_errors) <= 1e-9
+    assert max(sol.translation_errors) <= 1e-9 * 76.0 and sol.label == "exact"
 
 
 def test_the_search_on_table_1_is_approximate_and_says_so():

@@ -453,13 +453,33 @@ def drivers(moves, meridians: int = 180, refine: int = 3) -> list[tuple[float, n
             got = None if p is None else score(p)
             return math.inf if got is None else got[0]
         best = minimize_scalar(objective, bounds=(lam - half, lam + half), method="bounded",
-                               options={"xatol": 1e-13})
-        p = _circle_point_near(moves, best.x, t, 4 * half)
-        got = None if p is None else score(p)
-        if got is not None and got[0] < worst:
-            refined.append(got)
-        else:
-            refined.append((worst, u, v, t_star))
+                               options={"xatol": 1e-15, "maxiter": 2000})
+        candidates = [best.x]
+
+        def zeros(x, i, k, t=t):
+            """The difference of two slides' zero parameters along the curve (a root: they coincide)."""
+            p = _circle_point_near(moves, x, t, 4 * half)
+            if p is None:
+                return math.nan
+            try:
+                lines = solution_lines(moves, p, centre_point(moves, p))
+            except InputError:
+                return math.nan
+            a = slides(moves, lines, 0.0)
+            b = slides(moves, lines, 1.0) - a
+            return float(-a[i] / b[i] + a[k] / b[k]) if b[i] and b[k] else math.nan
+
+        for i, k in ((0, 1), (0, 2), (1, 2)):       # where two zeros coincide, the V of the min-max is sharp
+            lo, hi = best.x - half / 8, best.x + half / 8
+            flo, fhi = zeros(lo, i, k), zeros(hi, i, k)
+            if math.isfinite(flo) and math.isfinite(fhi) and flo * fhi < 0:
+                candidates.append(brentq(lambda x: zeros(x, i, k), lo, hi, xtol=1e-15))
+        for x in candidates:
+            p = _circle_point_near(moves, x, t, 4 * half)
+            got = None if p is None else score(p)
+            if got is not None and got[0] < worst:
+                worst, u, v, t_star = got
+        refined.append((worst, u, v, t_star))
     result = refined + [x[:4] for x in out[refine:]]
     result.sort(key=lambda x: x[0])
     return result
