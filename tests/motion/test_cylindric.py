@@ -40,3 +40,26 @@ def test_the_planted_poses_of_the_synthesis():
 def test_not_an_rccc():
     with pytest.raises(InputError, match="not an RCCC"):
         RCCCLinkage.of(load_spatial("examples/spatial/rssr-seed001.json"))
+
+
+def test_a_4c_driven_by_angle_and_slide():
+    # the planted linkage with its R joint made cylindric: the closed form with the driver's slide equals the
+    # loop closure driven by both of z0's variables
+    from domes.model.spatial import SpatialInput, SpatialJoint, SpatialMechanism
+
+    base = load_spatial(PLANTED)
+    z0 = base.joint("z0")
+    joints = (SpatialJoint("z0", "C", z0.links, z0.at, z0.axis),) + base.joints[1:]
+    mech = SpatialMechanism.build("4C", base.links, base.ground, joints,
+                                  (SpatialInput("z0", "angle"), SpatialInput("z0", "slide")))
+    closed = RCCCLinkage.make([(j.at, j.axis) for j in mech.joints])
+    kin = Loops(mech)
+    k = kin.index["coupler"]
+    state = kin.drawn()
+    for frac in np.linspace(0, 1, 31)[1:]:
+        theta, slide = frac * math.radians(40), frac * 7.5
+        state, _ = kin.positions({"z0.angle": theta, "z0.slide": slide}, state)
+        C, d, _ = closed.coupler(theta, slide=slide)
+        R = state.R[k]
+        np.testing.assert_allclose(C, R, atol=1e-12)
+        np.testing.assert_allclose(d, state.o[k] * kin.scale - R @ (kin.centre[k] * kin.scale), atol=1e-9)

@@ -1,4 +1,4 @@
-"""The RCCC linkage in closed form: the coupler's pose at an input angle, both assembly modes.
+"""The RCCC (and 4C) linkage in closed form: the coupler's pose at an input, both assembly modes.
 
 Four joint lines in the drawn pose: z0 (the R joint, ground–driver; point
 ``F``, direction ``v``), z1 (C, driver–coupler; ``M``, ``u0``), z2 (C,
@@ -69,9 +69,10 @@ class RCCCLinkage:
         (_, v), (_, u0), (_, w0), (_, vs) = self.lines
         return SphericalFourBar.make(v, u0, w0, vs)
 
-    def coupler(self, theta: float, branch: int | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+    def coupler(self, theta: float, branch: int | None = None, slide: float = 0.0) -> tuple[np.ndarray, np.ndarray, float]:
         """The coupler's displacement ``x ↦ C x + d`` from the drawn pose at input ``theta``, and its slide σ
-        along z1. Raises :class:`~domes.errors.NumericalError` where it does not assemble or is singular."""
+        along z1. ``slide`` moves the driver along z0: a 4C (whose z0 is cylindric) driven by both.
+        Raises :class:`~domes.errors.NumericalError` where it does not assemble or is singular."""
         (F, v), (M, u0), (D, w0), (G, vs) = self.lines
         image = self.image
         psi = float(image.psi(theta, branch))
@@ -81,7 +82,7 @@ class RCCCLinkage:
         u = _rotate(v, theta, u0)
         w = _rotate(vs, psi, w0)
         C = np.column_stack([u, w, np.cross(u, w)]) @ np.linalg.inv(np.column_stack([u0, w0, np.cross(u0, w0)]))
-        Mt = F + _rotate(v, theta, M - F)
+        Mt = F + slide * v + _rotate(v, theta, M - F)
         n0 = np.cross(vs, w0)
         h = float((D - G) @ n0) / np.linalg.norm(n0)        # z2–z3 common normal, signed, at the drawn pose
         n = np.cross(vs, w)
