@@ -43,6 +43,7 @@ from domes.model.fields import check_keys as _keys
 from domes.model.fields import read_number as _num
 from domes.model.fields import read_xy as _xy
 from domes.model.labelled import LabelledChain
+from domes.model.linkage import Linkage
 from domes.model.masses import MassModel
 from domes.model.mobility import mobility
 
@@ -99,7 +100,7 @@ class Polygon:
 
 
 @dataclass(frozen=True)
-class Mechanism:
+class Mechanism(Linkage):
     """A dimensioned planar mechanism in its drawn pose (immutable). Build with :meth:`build`."""
 
     name: str
@@ -203,20 +204,6 @@ class Mechanism:
         """Degrees of freedom by Grübler's count ``3(n − 1) − 2j`` (lower pairs)."""
         return mobility(len(self.links), len(self.joints))
 
-    @property
-    def loops(self) -> int:
-        """Independent loops ``L = j − n + 1``."""
-        return len(self.joints) - len(self.links) + 1
-
-    def joint(self, name: str) -> Joint:
-        for j in self.joints:
-            if j.name == name:
-                return j
-        raise InputError(f"{self.name}: no joint {name!r}; joints are {[j.name for j in self.joints]}")
-
-    def joints_of(self, link: str) -> list[Joint]:
-        return [j for j in self.joints if link in j.links]
-
     def point(self, name: str) -> tuple[str, Point2]:
         """``(link, drawn position)`` of a coupler point or joint (the joint on its first link)."""
         for p in self.points:
@@ -242,16 +229,6 @@ class Mechanism:
             if dx or dy:
                 return math.atan2(dy, dx)
         return 0.0
-
-    @property
-    def size(self) -> float:
-        """The largest distance between two joints or points: the length scale of tolerances."""
-        pts = [j.at for j in self.joints] + [p.at for p in self.points]
-        best = 0.0
-        for i, p in enumerate(pts):
-            for q in pts[i + 1:]:
-                best = max(best, math.hypot(p[0] - q[0], p[1] - q[1]))
-        return best or 1.0
 
     def labelled(self) -> LabelledChain:
         """The mechanism's topology: a :class:`~domes.model.LabelledChain` with its joint types, ground and names.

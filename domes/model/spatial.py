@@ -31,6 +31,7 @@ from typing import Mapping
 from domes.errors import InputError
 from domes.model.fields import check_keys, read_number
 from domes.model.labelled import LabelledChain
+from domes.model.linkage import Linkage
 from domes.model.mobility import mobility
 
 Point3 = tuple[float, float, float]
@@ -81,7 +82,7 @@ class SpatialPoint:
 
 
 @dataclass(frozen=True)
-class SpatialMechanism:
+class SpatialMechanism(Linkage):
     """A spatial mechanism in its drawn (assembled) pose. Build it with :meth:`build` or :meth:`from_dict`."""
 
     name: str
@@ -176,15 +177,6 @@ class SpatialMechanism:
                 count += 1
         return count
 
-    def joint(self, name: str) -> SpatialJoint:
-        for j in self.joints:
-            if j.name == name:
-                return j
-        raise InputError(f"{self.name}: no joint {name!r}; joints are {[j.name for j in self.joints]}")
-
-    def joints_of(self, link: str) -> list[SpatialJoint]:
-        return [j for j in self.joints if link in j.links]
-
     def point(self, name: str) -> tuple[str, Point3]:
         """``(link, drawn position)`` of a point or a joint (the joint on its second link)."""
         for p in self.points:
@@ -194,16 +186,6 @@ class SpatialMechanism:
             if j.name == name:
                 return j.links[1], j.at
         raise InputError(f"{self.name}: no point or joint {name!r}")
-
-    @property
-    def size(self) -> float:
-        """The largest distance between two joints or points: the length scale of residuals."""
-        pts = [j.at for j in self.joints] + [p.at for p in self.points]
-        best = 0.0
-        for i, p in enumerate(pts):
-            for q in pts[i + 1:]:
-                best = max(best, math.dist(p, q))
-        return best or 1.0
 
     def labelled(self) -> LabelledChain:
         """The topology: a labelled chain whose joint labels are the joint types (R, P, C, S, H)."""
