@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -60,12 +61,27 @@ def rotation(phi: np.ndarray) -> np.ndarray:
     return np.eye(3) + math.sin(angle) * k + (1 - math.cos(angle)) * (k @ k)
 
 
+def cross(a, b) -> np.ndarray:
+    """``a × b`` over the last axis (length 3); ``np.cross`` without its axis handling, which dominates on the
+    small arrays of a Newton step."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return np.stack((a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1], a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]), axis=-1)
+
+
+@lru_cache(maxsize=4096)
+def _perpendiculars(u: tuple) -> tuple[np.ndarray, np.ndarray]:
+    u = np.asarray(u)
+    helper = np.eye(3)[int(np.argmin(np.abs(u)))]
+    n1 = cross(helper, u)
+    n1 /= np.linalg.norm(n1)
+    return n1, cross(u, n1)
+
+
 def perpendiculars(u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Two unit vectors completing ``u`` to a right-handed frame ``(n1, n2, u)``."""
-    helper = np.eye(3)[int(np.argmin(np.abs(u)))]
-    n1 = np.cross(helper, u)
-    n1 /= np.linalg.norm(n1)
-    return n1, np.cross(u, n1)
+    n1, n2 = _perpendiculars(tuple(float(x) for x in u))
+    return n1.copy(), n2.copy()
 
 
 @dataclass(frozen=True)
@@ -75,6 +91,82 @@ class Term:
     kind: str
     link: int  # −1: the ground
     local: np.ndarray = field(compare=False)
+
+
+class _Dots:
+    """The ``dot`` equations compiled to arrays: every term's world value, rate and the Jacobian rows at once."""
+
+    def __init__(self, eqs, links: int):
+        terms, index = [], {}
+
+        def idx(t: Term) -> int:
+            key = (t.kind, t.link, tuple(np.round(t.local, 17)))
+            if key not in index:
+                index[key] = len(terms)
+                terms.append(t)
+            return index[key]
+
+        pad = lambda side: (side + [(0, None)] * 2)[:2]  # noqa: E731
+        self.u_idx, self.u_sign, self.v_idx, self.v_sign, self.value = [], [], [], [], []
+        for eq in eqs:
+            if len(eq[1]) > 2 or len(eq[2]) > 2:
+                raise AssertionError("a dot equation has at most two terms a side")
+            for side, ids, signs in ((eq[1], self.u_idx, self.u_sign), (eq[2], self.v_idx, self.v_sign)):
+                row = pad(list(side))
+                ids.append([idx(t) if t is not None else 0 for _, t in row])
+                signs.append([float(sg) for sg, _ in row])
+            self.value.append(eq[3])
+        self.u_idx, self.v_idx = np.array(self.u_idx, int).reshape(-1, 2), np.array(self.v_idx, int).reshape(-1, 2)
+        self.u_sign, self.v_sign = np.array(self.u_sign).reshape(-1, 2), np.array(self.v_sign).reshape(-1, 2)
+        self.value = np.array(self.value, float)
+        self.point = np.array([t.kind == "point" for t in terms], bool)
+        self.link = np.array([t.link for t in terms], int)
+        self.local = np.array([t.local for t in terms], float).reshape(-1, 3)
+        self.links = links
+
+    def world(self, s: State):
+        """Each term's world value ``w`` and its lever ``r`` (from its link's reference point, or itself)."""
+        L = self.links
+        R = np.concatenate([s.R, np.eye(3)[None]]) if L else np.eye(3)[None]
+        o = np.concatenate([s.o, np.zeros((1, 3))]) if L else np.zeros((1, 3))
+        k = np.where(self.link < 0, L, self.link)
+        turned = np.einsum("nij,nj->ni", R[k], self.local)
+        w = np.where(self.point[:, None], o[k] + turned, turned)
+        return w, turned, k
+
+    def evaluate(self, s: State, xd=None):
+        """Values ``(E,)``, Jacobian ``(E, 6L)`` and, with twists ``xd``, the velocity-product terms ``(E,)``."""
+        w, r, k = self.world(s)
+        U = np.einsum("ej,ejk->ek", self.u_sign, w[self.u_idx])
+        V = np.einsum("ej,ejk->ek", self.v_sign, w[self.v_idx])
+        values = np.einsum("ek,ek->e", U, V) - self.value
+        E, L = len(self.value), self.links
+        J = np.zeros((E, L + 1, 6))
+        for idx, sign, other in ((self.u_idx, self.u_sign, V), (self.v_idx, self.v_sign, U)):
+            for j in range(2):
+                t = idx[:, j]
+                sg = sign[:, j][:, None]
+                rows = np.arange(E)
+                lk = k[t]
+                pt = self.point[t][:, None]
+                # each equation appears once per (side, slot): no index repeats, plain += accumulates
+                J[rows, lk, 0:3] += np.where(pt, sg * other, 0.0)
+                J[rows, lk, 3:6] += sg * cross(r[t], other)
+        J = J[:, :L].reshape(E, 6 * L)
+        if xd is None:
+            return values, J, None
+        tw = np.concatenate([xd.reshape(-1, 6), np.zeros((1, 6))])
+        v, om = tw[k, :3], tw[k, 3:]
+        rate = np.where(self.point[:, None], v, 0.0) + cross(om, r)
+        quad = cross(om, cross(om, r))
+        ground = (self.link < 0)[:, None]
+        rate, quad = np.where(ground, 0.0, rate), np.where(ground, 0.0, quad)
+        Ud = np.einsum("ej,ejk->ek", self.u_sign, rate[self.u_idx])
+        Vd = np.einsum("ej,ejk->ek", self.v_sign, rate[self.v_idx])
+        Uq = np.einsum("ej,ejk->ek", self.u_sign, quad[self.u_idx])
+        Vq = np.einsum("ej,ejk->ek", self.v_sign, quad[self.v_idx])
+        bias = np.einsum("ek,ek->e", Uq, V) + np.einsum("ek,ek->e", U, Vq) + 2 * np.einsum("ek,ek->e", Ud, Vd)
+        return values, J, bias
 
 
 class State:
@@ -104,6 +196,8 @@ class Loops:
                 self.centre[k] = np.mean([np.asarray(j.at) for j in mech.joints_of(x)], axis=0) / self.scale
         self.outputs = self._outputs(outputs)
         self.equations = self._equations()
+        self._dots = _Dots([e for e in self.equations if e[0] == "dot"], len(self.moving))
+        self._others = [e for e in self.equations if e[0] != "dot"]
         self.inputs = list(mech.inputs)
         self.unknowns = 6 * len(self.moving)
         self._check_mobility()
@@ -213,7 +307,7 @@ class Loops:
             return np.zeros(3)
         r = w - s.o[t.link] if t.kind == "point" else w
         om = omega[t.link]
-        return np.cross(om, np.cross(om, r))
+        return cross(om, cross(om, r))
 
     def _side(self, side, s: State, twist=None, omega=None):
         value = np.zeros(3)
@@ -281,8 +375,9 @@ class Loops:
         return f"{i.joint}.{i.variable}" if both else i.joint
 
     def _jacobian(self, s: State, values: dict | None = None, inputs: bool = True, unwrap: dict | None = None):
-        rows, res = [], []
-        for eq in self.equations:
+        dot_values, dot_rows, _ = self._dots.evaluate(s)
+        rows, res = list(dot_rows), list(dot_values)
+        for eq in self._others:
             v, row, _ = self._scalar(eq, s)
             rows.append(row)
             res.append(v)
@@ -348,7 +443,9 @@ class Loops:
         if order == 1:
             return xd, None
         rhs = np.zeros(J.shape[0])
-        for n, eq in enumerate(self.equations):
+        bias = self._dots.evaluate(s, xd)[2]
+        rhs[:bias.size] = -bias
+        for n, eq in enumerate(self._others, bias.size):
             rhs[n] = -self._scalar(eq, s, xd)[2]
         for k, i in enumerate(self.inputs):
             acc = (accelerations or {}).get(self.key(i), i.acceleration)
