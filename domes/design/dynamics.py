@@ -107,8 +107,11 @@ class Dynamics(Result):
         return float(rel.max()) if rel.size else 0.0
 
     def peak(self, joint: str) -> tuple[float, float]:
-        """``(value, input)`` of the largest driving force or torque (by size) of ``joint``."""
+        """``(value, input)`` of the largest driving force or torque (by size) of ``joint`` (NaN when no step has
+        one: every step refused near a singular point)."""
         values = self.driving[joint]
+        if not np.any(np.isfinite(values)):
+            return math.nan, math.nan
         k = int(np.nanargmax(np.abs(values)))
         return float(values[k]), float(self.inputs[k])
 

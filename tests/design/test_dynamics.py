@@ -227,3 +227,15 @@ def test_a_sweep_stopped_at_a_dead_point_keeps_what_it_reached():
     dyn = inverse_dynamics(mech, 0.0, math.radians(130), math.radians(2))
     assert str(dyn.status) == "stopped" and "stopped:" in dyn.message
     assert dyn.inputs[-1] < math.radians(127.2) and dyn.max_imbalance < 1e-9
+
+
+def test_a_result_without_forces_says_so():
+    # every step refused near a singular point: no peak, and the message still reads
+    from domes.design.dynamics import Dynamics
+    from domes.results import Status
+
+    nan = np.full(3, np.nan)
+    dyn = Dynamics("m", "A", np.array([0.0, 0.1, 0.2]), None, {"A": nan}, {}, {}, np.zeros(3), nan, nan, nan,
+                   np.zeros(3), np.ones(3), Status.COMPLETE)
+    assert all(math.isnan(x) for x in dyn.peak("A"))
+    assert "power balance within 0 of the peak power 0" in dyn.message
