@@ -156,14 +156,22 @@ def executor(workers: int | None = None, scheduler: str | None = None):
     # speed, and numpy's large temporaries were mapped and unmapped on every operation (the kernel at a third of its
     # speed). Unset, the workers allocate as this process does.
     with dask.config.set({"distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_": None}):
+        # Workers log only what is critical: a task's error reaches the caller as its exception, and while the
+        # cluster closes a worker's heartbeat can meet the closed scheduler and log a traceback that means nothing.
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0",
-                               silence_logs=logging.ERROR)
+                               silence_logs=logging.CRITICAL)
     client = Client(cluster, set_as_default=False)
     try:
         yield DaskExecutor(client, f"a local Dask cluster of {workers} workers")
     finally:
-        client.close()
-        cluster.close()
+        quiet = logging.getLogger("distributed")
+        level = quiet.level
+        quiet.setLevel(logging.CRITICAL)                   # the same race, on this side, while closing
+        try:
+            client.close()
+            cluster.close()
+        finally:
+            quiet.setLevel(level)
 
 
 __all__ = ["DaskExecutor", "InProcess", "SCHEDULER_VARIABLE", "executor"]
