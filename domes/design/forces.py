@@ -137,8 +137,7 @@ def force_ratio(mech: Mechanism, output: str, start: float, stop: float, step: f
     f, dyn = held(start, stop, step)
     with np.errstate(divide="ignore"):
         ratio = np.where(f > 0, 1.0 / f, np.inf)
-    col = output if kind == "angle" else f"{output}"
-    values = _outputs(mech, col, dyn.inputs, joint, accuracy)
+    values = _outputs(mech, output, dyn.inputs, joint, accuracy)
     lo, hi = min(start, stop), max(start, stop)
     toggles = []
     for d in toggle_near(mech, 0.5 * (lo + hi), 0.5 * (hi - lo), output, accuracy):
@@ -147,7 +146,7 @@ def force_ratio(mech: Mechanism, output: str, start: float, stop: float, step: f
     toggles = sorted(set(toggles))
     reached = None
     if wanted is not None and toggles:
-        reached = _reached(lambda q: held(q, q, 1.0)[0][0], toggles, dyn.inputs, ratio, wanted, mech, col, joint,
+        reached = _reached(lambda q: held(q, q, 1.0)[0][0], toggles, dyn.inputs, ratio, wanted, mech, output, joint,
                            accuracy)
     status = dyn.status
     return ForceRatio(mech.name, output, joint, angular, dyn.inputs, ratio, values, tuple(toggles), wanted, reached,
@@ -255,7 +254,6 @@ def wheel_rate(mech: Mechanism, point: str, spring: str, start: float, stop: flo
     sw = sweep(_statics(mech), float(dyn.inputs[0]), float(dyn.inputs[-1]),
                float(dyn.inputs[1] - dyn.inputs[0]) if dyn.inputs.size > 1 else 1.0,
                outputs=names, order=1, joint=joint, accuracy=accuracy)
-    sw_input = mech.joint(joint)
     y = np.asarray(sw.table[f"{point}.y"], float)
     dy = np.asarray(sw.table[f"{point}.y'"], float)  # per unit input (speed 1)
     ends = [np.asarray(sw.table[f"point:{e}.x"], float) + 1j * np.asarray(sw.table[f"point:{e}.y"], float)
@@ -270,7 +268,6 @@ def wheel_rate(mech: Mechanism, point: str, spring: str, start: float, stop: flo
         force = dyn.driving[joint] / dy          # virtual work: a vertical force F at the point replaces τ
     travel = y - y[0]
     k = np.gradient(force, travel) if travel.size > 2 else np.full(travel.size, np.nan)
-    del sw_input
     return WheelRate(mech.name, point, spring, s.rate, dyn.inputs, travel, length, leverage, force, k,
                      s.rate / leverage ** 2, dyn.status)
 

@@ -233,7 +233,7 @@ class Scriber:
         try:
             return cls(read_number(data["H"], f"{source}: scriber.H"), read_number(data.get("sa", 0.0), f"{source}: scriber.sa"),
                        read_number(data.get("sb", 0.0), f"{source}: scriber.sb"), pair["lengths"], pair["masses"],
-                       int(data.get("branch", 1)) if data.get("branch", 1) in (1, -1) else data.get("branch"))
+                       data.get("branch", 1))
         except InputError as exc:
             raise InputError(f"{source}: {exc}") from None
 
