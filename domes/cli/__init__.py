@@ -20,6 +20,7 @@ import sys
 
 from domes import __version__
 from domes.errors import DomesError
+from domes.execution.threads import limited_threads
 
 #: Modules that register a subcommand, in the order of the pipeline.
 SUBCOMMAND_MODULES = (
@@ -68,7 +69,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return int(args.func(args) or 0)
+        with limited_threads():  # BLAS and OpenMP: one thread unless DOMES_THREADS says more
+            return int(args.func(args) or 0)
     except DomesError as exc:
         print(f"domes {args.command}: error: {exc}", file=sys.stderr)
         return 2
