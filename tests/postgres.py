@@ -195,3 +195,17 @@ def postgres_server_fixture():
 def postgres_casebase_fixture(postgres_server) -> str:
     """URL of a fresh PostgreSQL database holding the case base built from the shipped knowledge."""
     return postgres_server.casebase()
+
+
+def contents(url):
+    """Every row of every table of the case base, in primary-key order: what two case bases compare by."""
+    from sqlalchemy import create_engine, select
+
+    from domes.store.models import Base
+
+    engine = create_engine(url)
+    try:
+        with engine.connect() as conn:
+            return {t.name: conn.execute(select(t).order_by(*t.primary_key)).all() for t in Base.metadata.sorted_tables}
+    finally:
+        engine.dispose()

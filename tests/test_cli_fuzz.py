@@ -44,6 +44,8 @@ BASE = {
     "kb enable": ["kb", "enable", "--db", "DB", "--id", "book-i"],
     "kb disable": ["kb", "disable", "--db", "DB", "--id", "book-i"],
     "kb remove": ["kb", "remove", "--db", "DB", "--id", "book-vi"],
+    "kb history": ["kb", "history", "--db", "DB", "--changes"],
+    "kb undo": ["kb", "undo", "--db", "DB"],
     "kb export": ["kb", "export", "--db", "DB", "-o", "out.toml"],
     "kb import": ["kb", "import", "--db", "DB", "EXTRA.toml"],
     "kb check": ["kb", "check", "--db", "DB"],

@@ -23,6 +23,7 @@ PAGES = ["README.md", *sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs").
 SKIPPED = {
     "pip install": "the quick start's install: .ci/run runs it on a fresh clone",
     "python -m pytest": "the test suite itself",
+    "DOMES_FULL_TESTS=1 python -m pytest": "the test suite itself, in full",
     "python benchmarks/": "the benchmarks: tests/test_benchmarks.py starts each one",
     "chromium ": "the screenshots of docs/images (a maintainer's step)",
 }

@@ -4,14 +4,18 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import signal
 import sys
 import tempfile
 from pathlib import Path
 
-from domes.cli.common import DB_HELP, progress_printer
-from domes.errors import InputError
+from domes.cli.common import DB_HELP, parallel_options, progress_printer
+from domes.design.feasibility import METHODS
+from domes.errors import DomesError, InputError
+from domes.execution import check_workers
 from domes.expert.dialogue import Dialogue
+from domes.expert.feasible import DesignKnobs
 from domes.expert.replay import record_case, replay, scratch_casebase, shipped_cases
 from domes.expert.world import frame_text
 from domes.io.files import check_target
@@ -36,6 +40,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     d.add_argument("--no-vary", action="store_true", help="do not vary loops and gear pairs when everything is eliminated")
     d.add_argument("--dry-run", action="store_true", help="work on a scratch copy of the case base: keep nothing")
     d.add_argument("--db", metavar="URL", help=DB_HELP)
+    f = d.add_argument_group("the feasibility level (when the scene dimensions its candidates for requirements)")
+    f.add_argument("--report", metavar="DIR", default="auto",
+                   help="write the report (index.html) and a mechanism file per feasible design to DIR (default: "
+                   "domes-report-CLASS in the working folder)")
+    f.add_argument("--no-report", action="store_true", help="write no report")
+    f.add_argument("--time-budget", type=float, metavar="SECONDS",
+                   help="stop starting candidates once this time is spent; the session says which were not finished")
+    f.add_argument("--method", choices=METHODS, default="fast",
+                   help="dimensioning: polish the best 4 (fast) or 12 (exact) random layouts of each candidate")
+    f.add_argument("--seeds", type=int, default=16, metavar="N", help="screen 200 x N random layouts per candidate "
+                   "(default 16)")
+    parallel_options(f, "dimension the candidates")
     d.set_defaults(func=run_design)
 
     c = sub.add_parser("cases", help="solved problems: list, show, replay, record, remove")
@@ -55,9 +71,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     rc = cs.add_parser("record", help="run an answers file as a new shipped case (knowledge/cases/NAME.json)")
     rc.add_argument("answers", metavar="ANSWERS")
     rc.add_argument("--name", required=True, help="file name of the case (knowledge/cases/NAME.json)")
+    rc.add_argument("--method", choices=METHODS, default="fast", help="dimensioning method (kept with the case)")
+    rc.add_argument("--seeds", type=int, default=16, metavar="N", help="random layouts 200 x N per candidate (kept "
+                    "with the case)")
     rc.set_defaults(func=run_record)
     rm = cs.add_parser("remove", help="remove a solved problem from the case base")
     rm.add_argument("id")
+    rm.add_argument("--why", default="", help="why it is removed (kept in the history, `domes kb history`)")
     rm.set_defaults(func=run_remove)
 
 
@@ -65,6 +85,11 @@ def run_design(args: argparse.Namespace) -> int:
     for target in (args.record, args.state):  # where the session will be written: refused now, not after it
         if target:
             check_target(target)
+    if args.time_budget is not None and not (math.isfinite(args.time_budget) and args.time_budget > 0):
+        raise InputError(f"--time-budget must be a positive number of seconds, got {args.time_budget!r}")
+    if not 1 <= args.seeds <= 4096:
+        raise InputError(f"--seeds must be a whole number from 1 to 4096, got {args.seeds}")
+    check_workers(args.workers, args.scheduler)
     answers, interactive = [], True
     if args.answers:
         answers, interactive = read_answers(args.answers), False
@@ -75,8 +100,10 @@ def run_design(args: argparse.Namespace) -> int:
         url = scratch_casebase(args.db, None, Path(tmp)) if args.dry_run else args.db
         if args.dry_run:
             print("Dry run: a scratch copy of the case base; nothing is kept.")
+        knobs = DesignKnobs(args.method, args.seeds, args.workers, args.scheduler, args.time_budget,
+                            None if args.no_report else args.report)
         status = _design(args, Dialogue(url, answers, interactive=interactive or bool(args.resume), vary=not args.no_vary,
-                                        progress=progress_printer()))
+                                        progress=progress_printer(), knobs=knobs))
         if args.dry_run:
             print("Dry run: the case base is unchanged.")
         return status
@@ -129,8 +156,13 @@ def run_replay(args: argparse.Namespace) -> int:
     if not names:
         raise InputError("name the cases to replay, or give --all")
     failed = 0
-    for name in names:
-        result = replay(name, args.db, say=print if args.verbose else (lambda text: None))
+    for name in names:  # every case is replayed, whatever the others gave
+        try:
+            result = replay(name, args.db, say=print if args.verbose else (lambda text: None))
+        except DomesError as exc:
+            failed += 1
+            print(f"{name}: NOT REPLAYED: {exc}")
+            continue
         if result.differences:
             failed += 1
             print(f"{result.name}: DIFFERENT")
@@ -138,17 +170,22 @@ def run_replay(args: argparse.Namespace) -> int:
                 print(f"  {line}")
         else:
             print(f"{result.name}: same result ({result.outcome.relation}, {len(result.outcome.frame.results) if result.outcome.frame else 0} candidates)")
+    if failed:
+        print(f"{failed} of {len(names)} case(s) differ")
     return 1 if failed else 0
 
 
 def run_record(args: argparse.Namespace) -> int:
-    _, target = record_case(read_answers(args.answers), args.name, args.db, say=print)
+    if not 1 <= args.seeds <= 4096:
+        raise InputError(f"--seeds must be a whole number from 1 to 4096, got {args.seeds}")
+    _, target = record_case(read_answers(args.answers), args.name, args.db, say=print,
+                            knobs=DesignKnobs(method=args.method, seeds=args.seeds))
     print(f"Case written to {target}; rebuild the case base with `domes kb build`.")
     return 0
 
 
 def run_remove(args: argparse.Namespace) -> int:
-    with KnowledgeBase(args.db, write=True) as kb:
-        kb.remove_problem(args.id)
+    with KnowledgeBase(args.db, write=True, actor="domes cases remove") as kb:
+        kb.remove_problem(args.id, why=args.why)
     print(f"removed {args.id}")
     return 0

@@ -21,6 +21,13 @@ from domes.language.render import render_criterion, render_relevance
 from domes.language.tree import category, to_json
 from domes.store.casebase import DB_ENV, KnowledgeBase, build
 
+WHY_HELP = "why the change is made (kept in the history, `domes kb history`)"
+
+
+def _open(args: argparse.Namespace, **kwargs) -> KnowledgeBase:
+    """The case base of a command that changes it; its history names the command."""
+    return KnowledgeBase(args.db, actor=f"domes kb {args.kb_command}", **kwargs)
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
@@ -60,13 +67,24 @@ def register(sub: argparse._SubParsersAction) -> None:
         q.add_argument("--date", help="YYYY[-MM[-DD]] (default for add: today)")
         if name == "add":
             q.add_argument("--disabled", action="store_true", help="add it disabled")
+        q.add_argument("--why", default="", help=WHY_HELP)
         q.set_defaults(func=run_add if name == "add" else run_edit)
 
     for name, helptext in (("enable", "enable a criterion"), ("disable", "disable a criterion (kept, not applied)"),
                            ("remove", "remove a criterion")):
         q = kb.add_parser(name, parents=[db], help=helptext)
         q.add_argument("--id", required=True)
+        q.add_argument("--why", default="", help=WHY_HELP)
         q.set_defaults(func=run_remove if name == "remove" else run_enable, enable=name == "enable")
+
+    q = kb.add_parser("history", parents=[db], help="every change of the case base: what, when, in which session, why")
+    q.add_argument("--changes", action="store_true", help="also show each row's values before and after")
+    q.add_argument("--format", choices=("text", "json"), default="text")
+    q.set_defaults(func=run_history)
+
+    q = kb.add_parser("undo", parents=[db], help="take back the last change (or every change from entry N on)")
+    q.add_argument("entry", nargs="?", type=int, metavar="N", help="the history entry to go back to (default: the last)")
+    q.set_defaults(func=run_undo)
 
     q = kb.add_parser("export", parents=[db], help="write the knowledge base as TOML (or JSON)")
     q.add_argument("--output", "-o", help="file to write (default: stdout); .json writes JSON")
@@ -75,6 +93,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     q = kb.add_parser("import", parents=[db], help="add the criteria of a TOML or JSON file, all or none")
     q.add_argument("file")
+    q.add_argument("--why", default="", help=WHY_HELP)
     q.set_defaults(func=run_import)
 
     q = kb.add_parser("check", parents=[db], help="check the stored criteria (or given source files) parse as stored")
@@ -165,8 +184,8 @@ def _changes(args: argparse.Namespace) -> dict:
 def run_add(args: argparse.Namespace) -> int:
     changes = _changes(args)
     frame = CriterionFrame.create(args.id, enabled=not args.disabled, **changes)
-    with KnowledgeBase(args.db, write=True) as kb:
-        kb.add(frame)
+    with _open(args, write=True) as kb:
+        kb.add(frame, why=args.why)
     print(f"added {frame.id}: category ({frame.category}), level {frame.level}: {render_criterion(frame.tree)}")
     return 0
 
@@ -175,23 +194,23 @@ def run_edit(args: argparse.Namespace) -> int:
     changes = _changes(args)
     if not changes:
         raise InputError("nothing to change: give --text, --explanation, --keywords, --relevance, --level, --source or --date")
-    with KnowledgeBase(args.db, write=True) as kb:
+    with _open(args, write=True) as kb:
         frame = kb.get(args.id).edited(**changes)
-        kb.update(frame)
+        kb.update(frame, why=args.why)
     print(f"edited {frame.id}: category ({frame.category}), level {frame.level}: {render_criterion(frame.tree)}")
     return 0
 
 
 def run_enable(args: argparse.Namespace) -> int:
-    with KnowledgeBase(args.db, write=True) as kb:
-        kb.update(kb.get(args.id).with_enabled(args.enable))
+    with _open(args, write=True) as kb:
+        kb.update(kb.get(args.id).with_enabled(args.enable), why=args.why, action=f"{args.kb_command} criterion")
     print(f"{'enabled' if args.enable else 'disabled'} {args.id}")
     return 0
 
 
 def run_remove(args: argparse.Namespace) -> int:
-    with KnowledgeBase(args.db, write=True) as kb:
-        kb.remove(args.id)
+    with _open(args, write=True) as kb:
+        kb.remove(args.id, why=args.why)
     print(f"removed {args.id}")
     return 0
 
@@ -210,9 +229,9 @@ def run_export(args: argparse.Namespace) -> int:
 def run_import(args: argparse.Namespace) -> int:
     frames = read_file(args.file)
     check_unique(frames, args.file)  # validated whole before the database is even opened
-    with KnowledgeBase(args.db, create=True) as kb:
+    with _open(args, create=True) as kb:
         try:
-            kb.import_frames(frames)
+            kb.import_frames(frames, why=args.why)
         except DomesError as exc:
             raise InputError(f"{args.file}: {exc}; nothing was imported") from None
     print(f"imported {len(frames)} criteria from {args.file}")
@@ -233,6 +252,35 @@ def run_check(args: argparse.Namespace) -> int:
     if problems:
         raise InputError(f"{len(problems)} problem(s) in the knowledge base:\n  " + "\n  ".join(problems))
     print(f"ok: {len(frames)} criteria parse as stored")
+    return 0
+
+
+def run_history(args: argparse.Namespace) -> int:
+    with KnowledgeBase(args.db) as kb:
+        entries = kb.history()
+    if args.format == "json":
+        json.dump([e.to_dict() for e in entries], sys.stdout, ensure_ascii=False, indent=1)
+        sys.stdout.write("\n")
+        return 0
+    if not entries:
+        print("no recorded change")
+        return 0
+    for e in entries:
+        print(f"{e.number:>4}  {e.time}  {e.session}: {e.action} {e.target}" + (f"  (why: {e.why})" if e.why else ""))
+        print(f"      {e.summary}")
+        if args.changes:
+            for c in e.changes:
+                print(f"      {c['table']} {c['key']}: before {json.dumps(c['before'], ensure_ascii=False)}")
+                print(f"      {c['table']} {c['key']}: after  {json.dumps(c['after'], ensure_ascii=False)}")
+    print(f"# {len(entries)} change(s); `domes kb undo` takes back the last, `domes kb undo N` all from entry N on")
+    return 0
+
+
+def run_undo(args: argparse.Namespace) -> int:
+    with _open(args, write=True) as kb:
+        undone = kb.undo(args.entry)
+    for e in undone:
+        print(f"undone {e.number}: {e.action} {e.target} ({e.summary})")
     return 0
 
 

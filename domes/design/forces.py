@@ -157,7 +157,7 @@ def _outputs(mech, output, inputs, joint, accuracy) -> np.ndarray:
     """The output's value (angle, or the point's path length from the first input) at the inputs."""
     from domes.motion.planar.sweep import sweep
 
-    step = float(inputs[1] - inputs[0]) if inputs.size > 1 else 1.0
+    step = abs(float(inputs[1] - inputs[0])) if inputs.size > 1 else 1.0  # a sweep may run down: its step is > 0
     sw = sweep(mech, float(inputs[0]), float(inputs[-1]), step, outputs=[output], joint=joint, accuracy=accuracy)
     if output.startswith("angle:"):
         return np.degrees(np.asarray(sw.table[output], float))
@@ -267,7 +267,7 @@ def wheel_rate(mech: Mechanism, point: str, spring: str, start: float, stop: flo
         leverage = -dy / dL
         force = dyn.driving[joint] / dy          # virtual work: a vertical force F at the point replaces τ
     travel = y - y[0]
-    k = np.gradient(force, travel) if travel.size > 2 else np.full(travel.size, np.nan)
+    k = np.gradient(force, travel, edge_order=2) if travel.size > 2 else np.full(travel.size, np.nan)  # 2nd order ends
     return WheelRate(mech.name, point, spring, s.rate, dyn.inputs, travel, length, leverage, force, k,
                      s.rate / leverage ** 2, dyn.status)
 

@@ -140,13 +140,15 @@ class Tolerancing:
             if p.link == ground:
                 self._known[p.name] = None                         # fixed with the frame: not a dimension
         self._sliders = {}                                         # P joint -> (slider pin, angle, offset, height dims)
+        self._cylinders = {}                                       # P joint between moving links -> its pins
+        cylinder_equations = []
         slider_links = {}
         for j in mech.joints:
             if j.kind != "P":
                 continue
             if ground not in j.links:
-                raise InputError(f"tolerance: joint {j.name} slides between two moving links; tolerance analysis "
-                                 "takes R joints and slides on the frame only")
+                cylinder_equations += self._cylinder(j, on_link, point_at)
+                continue
             slider = j.links[1] if j.links[0] == ground else j.links[0]
             pins = on_link[slider]
             if len(pins) != 1:
@@ -180,6 +182,7 @@ class Tolerancing:
                 dims.append(Dimension(f"{link}:{u}-{v}", "length", length))
         for name, (pin, *_rest) in self._sliders.items():
             equations.append(("line", pin, name))
+        equations += cylinder_equations
         for inp in mech.inputs:
             j = mech.joint(inp.joint)
             if j.kind != "R" or ground not in j.links:
@@ -197,6 +200,46 @@ class Tolerancing:
         self._equations = equations
         self._dims = dims
         self._start = np.array([point_at[name] for name in self._unknown], dtype=float)
+
+    def _cylinder(self, j, on_link, point_at) -> list:
+        """A slide between two moving links (a cylinder and its rod, an RPR dyad): each link has a pin on the
+        slide's line (the pins' heights above it are taken as exact), placed by the other links; a link with
+        more pins is rigid and keeps its angle to the line (one equation each). The slide is the distance
+        along the line from its origin. Returns the equations it adds."""
+        line = complex(math.cos(j.direction), math.sin(j.direction))
+        on_line = []
+        for link in j.links:
+            pins = [p for p in on_link[link] if p in point_at]
+            if not pins:
+                raise InputError(f"tolerance: link {link} of joint {j.name} carries no pin")
+            near = [p for p in pins if abs(((complex(*point_at[p]) - complex(*j.at)) / line).imag) <= 1e-9 * self.size]
+            if len(pins) > 1 and not near:
+                raise InputError(f"tolerance: no pin of link {link} lies on the line of joint {j.name}; tolerance "
+                                 "analysis takes a cylinder pivoted on its axis")
+            on_line.append((near or pins)[0])
+        pa, pb = on_line
+        a, b = complex(*point_at[pa]), complex(*point_at[pb])
+        if abs(((b - a) / line).imag) > 1e-9 * self.size or abs(b - a) <= 1e-9 * self.size:
+            raise InputError(f"tolerance: joint {j.name} slides between two moving links whose pins {pa} and {pb} "
+                             "are not apart on its line (an offset slide); tolerance analysis takes such a slide when "
+                             "it is a cylinder whose pins lie on its axis")
+        equations = []
+        for link, pin in zip(j.links, on_line):  # a link with more pins keeps its angle to the line
+            other = next((p for p in on_link[link] if p != pin and p in point_at), None)
+            if other is None:
+                continue
+            c = complex(*point_at[other])
+            if pin == pa:   # the rod's pin stays on the cylinder's line
+                first, second, third, fourth = pa, pb, pa, other
+                u, v = b - a, c - a
+            else:           # the rod keeps its angle to the line
+                first, second, third, fourth = pb, other, pa, pb
+                u, v = c - b, b - a
+            turn = np.conj(u * np.conj(v)) / abs(u * np.conj(v))   # Im(u·conj(v)·turn) = 0 in the drawn pose
+            equations.append(("angle", first, second, third, fourth, complex(turn), abs(v)))
+        angle0 = math.atan2((b - a).imag, (b - a).real)
+        self._cylinders[j.name] = (pa, pb, angle0, j.direction, complex(*j.at) - b, complex(*j.slide_origin) - a)
+        return equations
 
     def _point(self, X, values, name):
         """``(M, 2)`` coordinates of a point: unknown (in ``X``), a ground pivot (dimensions), or fixed."""
@@ -229,6 +272,19 @@ class Tolerancing:
                         if name in self._index:
                             k = self._index[name]
                             J[:, row, 2 * k:2 * k + 2] += sign * grad
+                elif eq[0] == "angle":       # Im((p2 - p1)·conj(p4 - p3)·turn) / scale = 0
+                    _, p1, p2, p3, p4, turn, scale = eq
+                    u = self._point(X, values, p2) - self._point(X, values, p1)
+                    v = self._point(X, values, p4) - self._point(X, values, p3)
+                    uc, vc = u[:, 0] + 1j * u[:, 1], v[:, 0] + 1j * v[:, 1]
+                    z, y = np.conj(vc) * turn, uc * turn
+                    F[:, row] = (uc * z).imag / scale
+                    grad_u = np.stack([z.imag, z.real], axis=1) / scale
+                    grad_v = np.stack([y.imag, -y.real], axis=1) / scale
+                    for name, grad in ((p2, grad_u), (p1, -grad_u), (p4, grad_v), (p3, -grad_v)):
+                        if name in self._index:
+                            k = self._index[name]
+                            J[:, row, 2 * k:2 * k + 2] += grad
                 elif eq[0] == "line":
                     _, pin, joint = eq
                     _, angle, offset, height, _slot, _phi = self._sliders[joint]
@@ -260,6 +316,12 @@ class Tolerancing:
             if dim is not None:
                 coordinates[name] = values[:, list(dim)]
         directions = {}
+        for name, (pa, pb, angle0, phi0, slot, origin) in self._cylinders.items():
+            d = coordinates[pb] - coordinates[pa]
+            turn = np.exp(1j * (np.arctan2(d[:, 1], d[:, 0]) - angle0))   # the line turns with the pins
+            at, start = coordinates[pb] + _xy(turn * slot), coordinates[pa] + _xy(turn * origin)
+            coordinates[name], coordinates[f"origin:{name}"] = at, start
+            directions[name] = phi0 + np.angle(turn)
         for name, (pin, angle, _offset, _height, slot, phi0) in self._sliders.items():
             phi = values[:, angle]
             turn = np.exp(1j * (phi - phi0)) * complex(*slot)          # the slider turns with its line
@@ -288,6 +350,11 @@ class Tolerancing:
     def sigma(self, distribution: str) -> np.ndarray:
         """Each dimension's standard deviation under ``distribution``."""
         return self.bands / (3.0 if distribution == "normal" else math.sqrt(3.0))
+
+
+def _xy(z) -> np.ndarray:
+    """``(M, 2)`` coordinates of complex numbers."""
+    return np.stack([z.real, z.imag], axis=1)
 
 
 @dataclass(frozen=True, eq=False)

@@ -119,9 +119,9 @@ class DaskExecutor:
                 self.client.cancel(list(pending.values()))
 
 
-@contextmanager
-def executor(workers: int | None = None, scheduler: str | None = None):
-    """The executor for the knobs (see the module's doc); the cluster it starts is closed on exit."""
+def check_workers(workers: int | None = None, scheduler: str | None = None) -> str | None:
+    """Refuse knobs no executor can run with, before any work starts; returns the scheduler to use (the knob, or
+    ``DOMES_SCHEDULER``)."""
     scheduler = scheduler or os.environ.get(SCHEDULER_VARIABLE) or None
     if workers is not None and (not isinstance(workers, int) or workers < 1):
         raise InputError(f"--workers must be a whole number of at least 1, got {workers!r}")
@@ -130,6 +130,13 @@ def executor(workers: int | None = None, scheduler: str | None = None):
         raise InputError(f"--workers {workers}: this machine has {cores} cores, and more than "
                          f"{MAX_WORKERS_PER_CORE * cores} local workers only compete for them; for more, start a "
                          "Dask cluster and give --scheduler ADDRESS")
+    return scheduler
+
+
+@contextmanager
+def executor(workers: int | None = None, scheduler: str | None = None):
+    """The executor for the knobs (see the module's doc); the cluster it starts is closed on exit."""
+    scheduler = check_workers(workers, scheduler)
     if scheduler is None and (workers is None or workers == 1):
         yield InProcess()
         return
@@ -174,4 +181,4 @@ def executor(workers: int | None = None, scheduler: str | None = None):
             quiet.setLevel(level)
 
 
-__all__ = ["DaskExecutor", "InProcess", "SCHEDULER_VARIABLE", "executor"]
+__all__ = ["DaskExecutor", "InProcess", "SCHEDULER_VARIABLE", "check_workers", "executor"]

@@ -16,6 +16,7 @@ from typing import Callable
 
 from domes.errors import DomesError, InputError
 from domes.expert.engine import DesignExpert
+from domes.expert.feasible import DesignKnobs
 from domes.expert.questions import (
     HELP,
     STATIC,
@@ -24,8 +25,12 @@ from domes.expert.questions import (
     overrides_parser,
     parse_names,
     parse_scene_answer,
+    parse_weights,
+    parse_yes_no,
     relation_parser,
+    requirement_parser,
     satisfied_parser,
+    scope_parser,
     verify_parser,
 )
 from domes.expert.world import World
@@ -44,16 +49,21 @@ class Outcome:
     case: str | None
     frame: ProblemFrame | None
     exchanges: list[dict] = field(default_factory=list)
+    #: The dimensioning's knobs the session ran with (a replay runs with the same).
+    knobs: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """The transcript: answers, outcome and frame, as plain data (:func:`domes.io.transcripts.write_transcript`)."""
-        return {
+        out = {
             "format": TRANSCRIPT_FORMAT,
             "relation": self.relation,
             "case": self.case,
             "exchanges": self.exchanges,
             "frame": self.frame.to_dict() if self.frame else None,
         }
+        if self.knobs:
+            out["knobs"] = dict(self.knobs)
+        return out
 
 
 class Dialogue:
@@ -68,13 +78,14 @@ class Dialogue:
         read: Callable[[str], str] = input,
         vary: bool = True,
         progress: Progress | None = None,
+        knobs: DesignKnobs | None = None,
     ):
         self.say = out or (lambda text: print(text, flush=True))
         self.script = list(answers or [])
         self.used = 0
         self.interactive = interactive
         self.read = read
-        self.world = World(url, self.say, vary=vary, progress=progress)
+        self.world = World(url, self.say, vary=vary, progress=progress, knobs=knobs)
         self.exchanges: list[dict] = []
 
     # -- questions -----------------------------------------------------------------------
@@ -116,6 +127,28 @@ class Dialogue:
                             "or drive FROM:TO; path POINTS.csv: which four-bar traces it?; or dimension CANDIDATE "
                             "TASK.json: dimensions for a wanted curve)" + asks,
                             verify_parser(kept), "none", HELP["verify"])
+        if qid == "requirements":
+            scene = load_scene(engine.attr("scene"))
+            asked = ", ".join(r.label for r in scene.requirements)
+            return Question("requirements", f"Dimension, verify and rank the candidates for your requirements? (yes/no; "
+                            f"the {scene.name} scene asks: {asked})", parse_yes_no, "yes", HELP["requirements"],
+                            optional_in_scripts=True, script_default="no")
+        if qid.startswith("req."):
+            spec = next(r for r in load_scene(engine.attr("scene")).requirements if r.id == qid[4:])
+            unit = f" ({spec.unit})" if spec.unit and spec.unit != "1" else ""
+            return Question(qid, f"Requirement: {spec.label}{unit}", requirement_parser(spec),
+                            self.world.requirement_default(engine, spec),
+                            (spec.help + " " if spec.help else "") + f"Answer {spec.example()}; any unit of the same "
+                            "kind is taken (mm or m, deg or rad, N/mm or N/m).", optional_in_scripts=True)
+        if qid == "weights":
+            return Question("weights", "Weights of the ranking (default, or e.g. 'transmission 2, force 3')",
+                            parse_weights, "default", HELP["weights"], optional_in_scripts=True)
+        if qid == "criterion_scope":
+            problem_class = engine.attr("class") or ""
+            shown = problem_class.replace("_", " ")
+            return Question("criterion_scope", f"Relevant to which problems? class (the problem class is “{shown}”), "
+                            "always, or a relevance condition", scope_parser(problem_class), "class",
+                            HELP["criterion_scope"], optional_in_scripts=True)
         if qid == "relevance_overrides":
             ids = list(engine.attr("relevance_default").ids)
             return Question("relevance_overrides", "Override relevance? (none, or criterion ids: ID or +ID relevant, -ID irrelevant)",
@@ -147,13 +180,22 @@ class Dialogue:
 
     def _next(self, q: Question) -> str:
         prompt = f"{q.prompt}" + (f" [{q.default}]" if q.default is not None else "") + ": "
-        if self.used < len(self.script):
-            question, text = self.script[self.used]
+        if self.used < len(self.script) and self.script[self.used][0] == "relation" and q.id != "relation":
+            # answers that say how the problem relates to solved ones, run where its class is new: not needed
+            self.used += 1
+            self.say(f"  (the answers say 'relation: {self.script[self.used - 1][1]}', but the class is new: not needed)")
+        if self.used < len(self.script) or (not self.interactive and q.optional_in_scripts):
+            question, text = self.script[self.used] if self.used < len(self.script) else ("", "")
             if question != q.id and q.id == "relation":
                 # answers written for a new problem, run where its class is known: a different problem
                 self.say(prompt + "different")
                 self.say("  (the answers do not say how the problem relates to the solved ones: a different problem)")
                 return "different"
+            if question != q.id and q.optional_in_scripts:
+                taken = q.default if q.script_default is None else q.script_default
+                self.say(prompt + (taken or ""))
+                self.say(f"  (the answers do not answer {q.id!r}: {taken!r})")
+                return taken or ""
             self.used += 1
             if question != q.id:
                 raise InputError(f"answer {self.used} is for {question!r}, but the question is {q.id!r} ({q.prompt})")
@@ -190,7 +232,10 @@ class Dialogue:
         if left:
             first = f"{left[0][0]}: {left[0][1]}"
             self.say(f"({len(left)} answer(s) not needed, from '{first}' on: the dialogue ended before those questions)")
-        return Outcome(relation, case, frame, self.exchanges)
+        knobs = {}
+        if frame is not None and frame.designs:
+            knobs = {"method": self.world.knobs.method, "seeds": self.world.knobs.seeds}
+        return Outcome(relation, case, frame, self.exchanges, knobs)
 
 
 def rejected_text(world: World) -> str:

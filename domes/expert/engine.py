@@ -13,6 +13,10 @@ the same as, similar to or different from one of them:
 * different (or a new class): the structural attributes are asked, the
   MECXPRT structure rule derives links and joints, and the same steps follow.
 
+When the scene says how its candidates are dimensioned, the requirements
+(motion, stroke, forces, size, accuracy) are asked after the scene, and the
+run ends with the feasibility level and the ranking.
+
 ``engine.pending`` is the question waiting for an answer, ``engine.answer(...)``
 gives it one; the session (:mod:`domes.expert.dialogue`) does the asking.
 """
@@ -123,11 +127,12 @@ class DesignExpert(KnowledgeEngine):
         AS.rel << Relation(value="different"),
         Attr(name="names"),
         Attr(name="links"),
+        Attr(name="requirements"),
         NOT(Attr(name="recognised")),
         salience=20,
     )
     def recognise(self, rel):
-        """The case-based reasoner: a solved problem with the same attributes answers at once."""
+        """The case-based reasoner: a solved problem with the same attributes and requirements answers at once."""
         self.set_attr("recognised", True)
         case = self.world.recognise(self)
         if case is not None:
@@ -136,7 +141,14 @@ class DesignExpert(KnowledgeEngine):
 
     # -- relevance, criteria, run, review ----------------------------------------------
 
-    @Rule(Attr(name="scene"), Attr(name="links"), NOT(Attr(name="relevance")), NOT(Ask()), NOT(Phase()))
+    @Rule(Attr(name="scene", value=MATCH.scene), Attr(name="links"), NOT(Attr(name="requirements")), NOT(Ask()),
+          NOT(Phase()))
+    def requirements(self, scene):
+        """The requirements the scene dimensions its candidates for, asked only when it says how."""
+        self.world.ask_requirements(self, scene)
+
+    @Rule(Attr(name="scene"), Attr(name="links"), Attr(name="requirements"), NOT(Attr(name="relevance")), NOT(Ask()),
+          NOT(Phase()))
     def relevance(self):
         self.world.build_relevance(self)
         self.ask("relevance_overrides")

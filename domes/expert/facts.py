@@ -2,7 +2,7 @@
 
 * ``Attr(name=..., value=...)``: a known attribute of the problem (class,
   outputs, dof, space, loops, gear_pairs, slider_pairs, names, scene, links,
-  joints, relevance).
+  joints, requirements, weights, relevance).
 * ``Needed(name=..., after=...)``: ask ``name`` once ``after`` is known (the
   order of the questions).
 * ``Ask(id=...)``: the question the engine is waiting for (one at a time).

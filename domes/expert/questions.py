@@ -20,7 +20,8 @@ from domes.errors import InputError
 from domes.io.mechanisms import load_mechanism
 from domes.io.resources import knowledge_dir
 from domes.io.scenes import scene_names
-from domes.language.parse import normalise_name, parse_criterion
+from domes.language.parse import normalise_name, parse_criterion, parse_relevance
+from domes.language.tree import Always, ClassIs
 from domes.model.labelled import LabelledChain
 from domes.model.mechanism import Mechanism
 
@@ -37,6 +38,10 @@ class Question:
     parse: Callable[[str], Any]
     default: str | None = None
     help: str = ""
+    #: Asked since answers files were first written: a file that does not answer it takes ``script_default``
+    #: (None: the default).
+    optional_in_scripts: bool = False
+    script_default: str | None = None
 
 
 def parse_int_range(low: int, high: int) -> Callable[[str], int]:
@@ -100,6 +105,59 @@ def parse_scene_answer(text: str) -> str | None:
 def parse_criterion_text(text: str) -> str:
     parse_criterion(text)  # raises with the column and what was expected
     return text.strip()
+
+
+def scope_parser(problem_class: str) -> Callable[[str], Any]:
+    """``class`` (the problem's class), ``always``, or a relevance condition of the criterion language.
+
+    >>> scope_parser("pump")("class")
+    ClassIs(name='pump')
+    """
+
+    def parse(text: str):
+        word = text.strip().lower()
+        if word == "class":
+            return ClassIs(problem_class)
+        if word == "always":
+            return Always()
+        return parse_relevance(text)  # raises with the column and what was expected
+
+    return parse
+
+
+def requirement_parser(spec) -> Callable[[str], Any]:
+    """A requirement's answer, in the spec's unit; a function of x is checked as the synthesis will read it."""
+    from domes.design.synthesis.expressions import expression
+
+    def parse(text: str):
+        value = spec.parse(text)
+        if spec.kind == "function":
+            expression(value.value, spec.label)
+        return value
+
+    return parse
+
+
+def parse_weights(text: str) -> dict[str, float]:
+    """``default``, or factor weights: ``transmission 2, force 3`` (the others keep their defaults).
+
+    >>> parse_weights("transmission 2, force 0.5")
+    {'transmission': 2.0, 'force': 0.5}
+    """
+    from domes.design.brief import FACTORS, weights_from
+
+    words = text.replace(",", " ").replace("=", " ").split()
+    if not words or words == ["default"]:
+        return {}
+    if len(words) % 2:
+        raise InputError(f"give factor weight pairs, e.g. 'transmission 2, force 1'; the factors are {', '.join(FACTORS)}")
+    raw = {}
+    for name, value in zip(words[::2], words[1::2]):
+        try:
+            raw[name] = float(value)
+        except ValueError:
+            raise InputError(f"the weight of {name} must be a number, got {value!r}") from None
+    return weights_from(raw, "weights")
 
 
 def relation_parser(cases: list[str]) -> Callable[[str], tuple[str, str | None]]:
@@ -171,6 +229,19 @@ HELP = {
     "criterion": "A sentence of the criterion language, e.g. 'the swing arm must be adjacent to the ground', "
                  "'every vertex must have degree at most 3', 'the number of loops that have a slider pair must be at "
                  "most 1'. Grammar: docs/knowledge.md.",
+    "criterion_scope": "Which problems the new criterion is relevant to, so that it does not change the answers of "
+                       "others: class (problems of this class, the default), always (every problem), or a relevance "
+                       "condition, e.g. 'the problem has “piston”', 'the number of slider pairs is at least 1', "
+                       "'the problem class is “pump” or the problem class is “compressor”'. Grammar: docs/knowledge.md.",
+    "requirements": "yes to state the requirements the scene asks for (the motion wanted, stroke, forces, size, "
+                    "accuracy; each with its unit, any unit of the same kind) and have every candidate that passes the "
+                    "screening dimensioned for them, verified (assembly and branch, dead points, transmission angle, "
+                    "forces, tolerances) and ranked; a report is written. no screens only.",
+    "weights": "How much each factor counts in the ranking of the feasible designs, as factor weight pairs, e.g. "
+               "'transmission 2, force 3'; the others keep their defaults. Factors: accuracy (the wanted curve), "
+               "transmission (the smallest transmission angle), compactness (the space swept), force (the force "
+               "requirement's margin), sensitivity (the tolerance spread over its budget), complexity (links, "
+               "plates and sliders). 'default' keeps them all (docs/expert.md).",
     "satisfied": "yes keeps the result as a solved case; no adds criteria and designs again; 'rejected' lists every "
                  "rejected candidate with its criterion; -ID declares a criterion irrelevant (+ID relevant) and "
                  "designs again.",

@@ -11,7 +11,9 @@ another class, or with other structural attributes, is *different*.
 
 Structural attributes compared: DOF, outputs, λ, independent loops, gear
 pairs and sliders (links and joints follow from them). An attribute the
-designer has not stated does not count as a difference.
+designer has not stated does not count as a difference. The requirements
+(stroke, forces, size, accuracy: not in Table 7-1) count as representative
+attributes: a problem with other requirements is similar, not the same.
 
 >>> from domes.knowledge.problems import ProblemFrame
 >>> old = ProblemFrame("moto", "suspension", dof=1, loops=2, slider_pairs=1, names=frozenset({"swing arm"}))
@@ -39,11 +41,16 @@ def same_structure(a: ProblemFrame, b: ProblemFrame) -> bool:
     return all(getattr(a, k) is None or getattr(b, k) is None or getattr(a, k) == getattr(b, k) for k in COMPARED)
 
 
+def same_requirements(a: ProblemFrame, b: ProblemFrame) -> bool:
+    """The same requirements, value for value (none on both sides is the same)."""
+    return {r.id: r.value for r in a.requirements} == {r.id: r.value for r in b.requirements}
+
+
 def relation(problem: ProblemFrame, solved: ProblemFrame) -> str:
     """``same``, ``similar`` or ``different`` (see the module doc)."""
     if problem.problem_class != solved.problem_class or not same_structure(problem, solved):
         return "different"
-    return "same" if problem.names == solved.names else "similar"
+    return "same" if problem.names == solved.names and same_requirements(problem, solved) else "similar"
 
 
 @dataclass(frozen=True)

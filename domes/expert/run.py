@@ -71,6 +71,8 @@ class DesignRun(Result):
     relax: tuple[tuple[str, int], ...] = ()
     #: Verified dimensioned mechanisms of kept candidates (``dimension`` answers), kept with the case.
     mechanisms: tuple[dict, ...] = ()
+    #: The feasibility level and the ranking (:mod:`domes.expert.feasible`): one record per kept candidate.
+    designs: tuple[dict, ...] = ()
 
     @property
     def status(self) -> Status:

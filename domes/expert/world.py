@@ -11,20 +11,24 @@ import dataclasses
 import datetime as _dt
 import hashlib
 import re
+import uuid
 from typing import Callable
 
 from domes.design.verify import verify as verify_mechanism
 from domes.errors import DomesError
 from domes.expert.dimensions import dimension_candidate
 from domes.expert.facts import STRUCTURAL, Phase, Relation
+from domes.expert.feasible import DesignKnobs, feasibility_text, feasible_designs
 from domes.expert.paths import coupler_path_text
 from domes.expert.reasoner import recognise
+from domes.expert.report import report_folder, write_report
 from domes.expert.run import DesignRun, design, scene_roles
 from domes.io.scenes import load_scene, scene_names
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
 from domes.knowledge.relevance import is_relevant, relevance_vector, unavailable_names
-from domes.language.tree import names_used
+from domes.language.render import render_relevance
+from domes.language.tree import AnyOf, ClassIs, Relevance, names_used
 from domes.results import Progress
 from domes.store.casebase import KnowledgeBase
 from domes.typesynth.number import number_synthesis
@@ -33,22 +37,29 @@ from domes.typesynth.number import number_synthesis
 class World:
     """The design expert's access to the case base (one transaction per change) and the designer."""
 
-    def __init__(self, url: str | None, say: Callable[[str], None], vary: bool = True, progress: Progress | None = None):
+    def __init__(self, url: str | None, say: Callable[[str], None], vary: bool = True, progress: Progress | None = None,
+                 knobs: DesignKnobs | None = None):
         self.url = url
         self.say = say
         self.vary = vary
         self.progress = progress
+        self.knobs = knobs or DesignKnobs()
+        self.pending_requirements: list = []
+        self.answered_requirements: dict = {}
         self.run_result: DesignRun | None = None
         self.shown: ProblemFrame | None = None
         self.retained: ProblemFrame | None = None
         self.added: list[str] = []
         self.relation: tuple[str, str | None] = ("different", None)
+        #: Names this session in the case base's history.
+        self.session_id = f"design session {uuid.uuid4().hex[:8]}"
+        self.pending_criterion: str | None = None
 
     # -- the case base ---------------------------------------------------------------
 
     def kb(self, write: bool = False) -> KnowledgeBase:
-        """The case base, for one unit of work (``write``: it will be changed)."""
-        return KnowledgeBase(self.url, write=write)
+        """The case base, for one unit of work (``write``: it will be changed); its history names this session."""
+        return KnowledgeBase(self.url, write=write, actor=self.session_id)
 
     def solved(self) -> list[ProblemFrame]:
         with self.kb() as kb:
@@ -99,8 +110,25 @@ class World:
             else:
                 self._leave_phase(engine, "criteria")
                 engine.declare(Phase(name="run"))
+        elif question == "requirements":
+            if value:
+                self.pending_requirements = list(load_scene(engine.attr("scene")).requirements)
+                self.answered_requirements = {}
+                self._next_requirement(engine)
+            else:
+                engine.set_attr("requirements", ())
+        elif question.startswith("req."):
+            self.answered_requirements[value.id] = value
+            self._next_requirement(engine)
+        elif question == "weights":
+            engine.set_attr("weights", value)
+            engine.set_attr("requirements", tuple(self.answered_requirements.values()))
         elif question == "criterion":
-            self.add_criterion(engine, value)
+            self.pending_criterion = value
+            engine.ask("criterion_scope")
+        elif question == "criterion_scope":
+            text, self.pending_criterion = self.pending_criterion, None
+            self.add_criterion(engine, text, value)
         elif question == "verify":
             if value is None:
                 self._leave_phase(engine, "verify")
@@ -122,6 +150,29 @@ class World:
                 engine.declare(Phase(name="retain" if value else "criteria"))
         else:
             engine.set_attr(question, value)
+
+    def ask_requirements(self, engine, scene: str | None) -> None:
+        """Ask whether to dimension for requirements when the scene says how (else: no requirements)."""
+        found = load_scene(scene) if scene else None
+        if found is not None and found.requirements and found.design:
+            engine.ask("requirements")
+        else:
+            engine.set_attr("requirements", ())
+
+    def _next_requirement(self, engine) -> None:
+        if self.pending_requirements:
+            engine.ask("req." + self.pending_requirements.pop(0).id)
+        else:
+            engine.ask("weights")
+
+    def requirement_default(self, engine, spec) -> str:
+        """The default answer to a requirement: a similar solved problem's, else the scene's."""
+        relation, case = self.relation
+        if relation == "similar" and case:
+            for r in self.case(case).requirements:
+                if r.id == spec.id and r.text:
+                    return r.text
+        return spec.default
 
     @staticmethod
     def _leave_phase(engine, name: str) -> None:
@@ -154,6 +205,7 @@ class World:
             outputs=a("outputs"), dof=a("dof"), space=a("space") or 3, loops=a("loops"),
             gear_pairs=a("gear_pairs"), slider_pairs=a("slider_pairs"), links=a("links"), joints=a("joints"),
             names=a("names") or frozenset(), scene=a("scene"), relevance=a("relevance"),
+            requirements=tuple(a("requirements") or ()),
         )
 
     def recognise(self, engine) -> str | None:
@@ -189,19 +241,34 @@ class World:
         normal = re.sub(r"\s+", " ", text.strip().lower())
         return "designer-" + hashlib.sha1(normal.encode("utf-8")).hexdigest()[:8]
 
-    def add_criterion(self, engine, text: str) -> None:
-        """Add the designer's criterion to the knowledge base (one transaction) and to the relevance vector."""
+    def add_criterion(self, engine, text: str, scope: Relevance | None = None) -> None:
+        """Add the designer's criterion to the knowledge base (one transaction) and to the relevance vector.
+
+        ``scope`` is its relevance condition (default: the problem's class), so that a criterion added for one
+        problem never changes the answers of another class. The same sentence added again for a problem its
+        condition does not cover has its condition widened to cover it (kept in the history).
+        """
+        problem = self.problem(engine)
+        scope = scope or ClassIs(problem.problem_class)
         frame = CriterionFrame.create(
             self.criterion_id(text), text, explanation=f"added in a design session: {text}",
-            source="design session", date=_dt.date.today().isoformat(),
+            relevance=render_relevance(scope), source="design session", date=_dt.date.today().isoformat(),
         )
+        why = f"added in a design session of class {problem.problem_class.replace('_', ' ')!r}"
         with self.kb(write=True) as kb:
             known = {f.id: f for f in kb.frames()}
             if frame.id not in known:
-                kb.add(frame)
-                self.say(f"Criterion {frame.id} added to the knowledge base.")
+                kb.add(frame, why=why)
+                self.say(f"Criterion {frame.id} added to the knowledge base, relevant when {frame.relevance_text}.")
+            elif is_relevant(known[frame.id].relevance, problem):
+                self.say(f"Criterion {frame.id} is already in the knowledge base, relevant when "
+                         f"{known[frame.id].relevance_text}.")
             else:
-                self.say(f"Criterion {frame.id} is already in the knowledge base.")
+                old = known[frame.id]
+                wider = render_relevance(AnyOf((old.relevance, scope)))
+                kb.update(old.edited(relevance=wider), why=f"used in a design session of class "
+                          f"{problem.problem_class.replace('_', ' ')!r} too", action="widen relevance")
+                self.say(f"Criterion {frame.id} is already in the knowledge base; its relevance is widened to: {wider}.")
         self.added.append(frame.id)
         vector = engine.attr("relevance")
         ids = list(vector.ids) + ([frame.id] if frame.id not in vector.ids else [])
@@ -216,6 +283,61 @@ class World:
         for note in self.run_result.notes:
             self.say(note)
         self.say(result_text(self.run_result, criteria))
+        if problem.requirements and self.run_result.kept:
+            self.feasibility(engine)
+        elif self.run_result.kept:
+            self.report(self.frame_of_run(engine, "not retained"))
+
+    def feasibility(self, engine) -> None:
+        """The last screening level: the kept (quasi-feasible) candidates dimensioned for the requirements,
+        verified and ranked; the records join the design run."""
+        run = self.run_result
+        self.say(f"Dimensioning and verifying {len(run.kept)} quasi-feasible candidate(s) for the requirements "
+                 f"({self.knobs.method}, {self.knobs.seeds} seeds"
+                 + (f", a time budget of {self.knobs.time_budget:g} s" if self.knobs.time_budget else "") + ") ...")
+        try:
+            result, ranking, records = feasible_designs(run.problem.scene, run.problem.requirements,
+                                                        engine.attr("weights") or {}, run.kept, self.knobs,
+                                                        self.progress)
+        except DomesError as exc:
+            self.say(f"The candidates could not be dimensioned: {exc}")
+            return
+        self.say(feasibility_text(result, ranking))
+        note = (f"feasibility: {len(result.feasible)} of {len(result.designs)} quasi-feasible candidate(s) feasible"
+                + (f"; not finished: {', '.join(map(str, result.unfinished))}" if result.unfinished else ""))
+        self.run_result = dataclasses.replace(run, designs=records, notes=run.notes + (note,))
+        self.report(self.frame_of_run(engine, "not retained"))
+
+    def frame_of_run(self, engine, case_id: str) -> ProblemFrame:
+        """The problem frame of the latest design run (what :meth:`retain` keeps), under ``case_id``."""
+        run = self.run_result
+        vector = engine.attr("relevance")
+        relation, case = self.relation
+        if relation == "similar" and case:
+            old = self.case(case).relevance
+            if old is not None:
+                vector = vector.merge(old.aligned(vector.ids))
+        return dataclasses.replace(
+            run.problem, id=case_id, relevance=vector, results=run.kept, rejected=run.rejected,
+            mechanisms=run.mechanisms, notes=run.notes, criteria_added=tuple(self.added), designs=run.designs,
+            source="design session", date=_dt.date.today().isoformat(), title=engine.attr("class") or "",
+        )
+
+    def report(self, frame: ProblemFrame) -> None:
+        """Write the session's report (when asked for and candidates were kept) and say where."""
+        if self.knobs.report is None or not frame.results:
+            return
+        folder = report_folder(self.knobs.report, frame.problem_class)
+        words = {c.id: c.explanation for c in self.criteria()}
+        title = load_scene(frame.scene).title if frame.scene else ""
+        try:
+            page = write_report(folder, frame, words, title)
+        except DomesError as exc:
+            self.say(f"The report could not be written: {exc}")
+            return
+        files = sum(d.get("status") == "feasible" for d in frame.designs)
+        self.say(f"Report: {page}" + (f" (and a mechanism file for each of the {files} feasible designs beside it)."
+                                     if files else " (the kept candidates, sketched)."))
 
     def verify(self, candidate: int, mech, check, path: str) -> None:
         """Run a dimensional check on a kept candidate; the result joins the design's notes."""
@@ -255,6 +377,7 @@ class World:
         self.shown = frame
         self.say(f"The same problem as {case_id}, solved before: its result, from the case base.")
         self.say(frame_text(frame))
+        self.report(frame)
 
     def relax(self, engine, overrides) -> None:
         """The designer relaxes (``-ID``) or adds back (``+ID``) criteria after a run: design again."""
@@ -269,26 +392,12 @@ class World:
         if not run.kept:
             self.say("Nothing was kept, so the problem is not retained as a solved case.")
             return
-        relation, case = self.relation
-        vector = engine.attr("relevance")
-        if relation == "similar" and case:
-            old = self.case(case).relevance
-            if old is not None:
-                vector = vector.merge(old.aligned(vector.ids))
-        with self.kb(write=True) as kb:
-            ids = {p.id for p in kb.problems()}
-            base = run.problem.problem_class.replace("_", "-")
-            number = 1
-            while f"{base}-{number}" in ids:
-                number += 1
-            frame = dataclasses.replace(
-                run.problem, id=f"{base}-{number}", relevance=vector, results=run.kept, rejected=run.rejected, mechanisms=run.mechanisms,
-                notes=run.notes, criteria_added=tuple(self.added), source="design session",
-                date=_dt.date.today().isoformat(), title=engine.attr("class") or "",
-            )
-            kb.retain(frame)
+        frame = self.frame_of_run(engine, run.problem.problem_class.replace("_", "-"))
+        with self.kb(write=True) as kb:  # the id (CLASS-N) is chosen inside the transaction that stores it
+            frame = kb.retain_new(frame, why="the designer found the result satisfactory")
         self.retained = frame
         self.say(f"Retained as case {frame.id}.")
+        self.report(frame)
 
 
 def _roles(candidate: dict) -> str:
@@ -337,5 +446,12 @@ def frame_text(frame: ProblemFrame) -> str:
         f"  {len(frame.results)} candidates:",
     ]
     lines += [f"  candidate {c.get('id')}: {_roles(c)}{'  EXISTING' if c.get('existing') else ''}" for c in frame.results]
+    if frame.requirements:
+        lines.append("  requirements: " + "; ".join(f"{r.label or r.id} {r.shown}" for r in frame.requirements))
+    ranked = sorted((d for d in frame.designs if d.get("status") == "feasible"), key=lambda d: d.get("rank", 0))
+    lines += [f"  design {d['rank']}: candidate {d['candidate']}, score {d.get('score', 0):.3f} ({d.get('grade', '')})"
+              for d in ranked]
+    lines += [f"  candidate {d['candidate']}: {d.get('status')}: {d.get('reason', '')}" for d in frame.designs
+              if d.get("status") != "feasible"]
     lines += [f"  {note}" for note in frame.notes]
     return "\n".join(lines)

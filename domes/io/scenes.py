@@ -9,8 +9,10 @@ in the knowledge folder's ``scenes/``.
 
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 
+from domes.design.brief import brief_from, check_spec, weights_from
 from domes.design.verify import CHECKS, USAGE
 from domes.errors import DomesError, InputError
 from domes.io.resources import knowledge_dir
@@ -22,6 +24,7 @@ from domes.language.tree import names_used
 from domes.model.chain import Chain
 from domes.model.labelled import JOINT_TYPES
 from domes.model.mobility import chain_joints
+from domes.model.requirements import RequirementSpec, placeholders
 from domes.typesynth.atlas import ChainGenerator
 from domes.typesynth.scene import SELECTIONS, Degrees, Particularization, Scene, SceneCheck, Stage, impossible_degree
 
@@ -29,7 +32,10 @@ _STAGE_KEYS = {"name", "role", "select", "rules", "note"}
 _CHAINS_KEYS = {"links", "dof", "include_fractionated"}
 #: Up to this many links the degrees that occur are read off the atlas itself.
 DEGREES_FROM_ATLAS = 10
-_TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book", "checks"}
+_TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book", "checks",
+             "requirements", "design"}
+_REQUIREMENT_KEYS = {"id", "label", "kind", "unit", "default", "help"}
+_DESIGN_KEYS = {"task", "checks", "weights"}
 
 
 def scene_names() -> list[str]:
@@ -38,14 +44,27 @@ def scene_names() -> list[str]:
 
 
 def load_scene(name_or_path: str | Path) -> Scene:
-    """A scene by name (``knowledge/scenes/NAME.toml``) or by file path."""
+    """A scene by name (``knowledge/scenes/NAME.toml``) or by file path.
+
+    A scene is an immutable value: one read again while its file is unchanged (same path, size and time of
+    change) is the one read before.
+    """
     path = Path(name_or_path)
     if not path.is_file():
         candidate = knowledge_dir() / "scenes" / f"{name_or_path}.toml"
         if not candidate.is_file():
             raise InputError(f"no scene {str(name_or_path)!r}: not a file, and not one of: {', '.join(scene_names())}")
         path = candidate
-    return parse_scene(TomlSource.read(path))
+    try:
+        state = path.stat()
+    except OSError:
+        return parse_scene(TomlSource.read(path))
+    return _load(str(path.resolve()), state.st_size, state.st_mtime_ns)
+
+
+@lru_cache(maxsize=64)
+def _load(path: str, size: int, changed: int) -> Scene:
+    return parse_scene(TomlSource.read(Path(path)))
 
 
 def parse_scene(src: TomlSource) -> Scene:
@@ -125,6 +144,8 @@ def parse_scene(src: TomlSource) -> Scene:
         if (raw["check"].split() or [""])[0] not in CHECKS:
             raise src.error(f"checks: {raw['check']!r} is not a verify check; they are {', '.join(USAGE)}", line)
         checks.append(SceneCheck(raw["check"], raw["why"]))
+    requirements = _parse_requirements(src, data.get("requirements", []))
+    design = _parse_design(src, data.get("design"), requirements, str(data.get("name", Path(src.path).stem)))
     return Scene(
         name=str(data.get("name", Path(src.path).stem)),
         title=str(data.get("title", data.get("name", ""))),
@@ -139,7 +160,70 @@ def parse_scene(src: TomlSource) -> Scene:
         book_counts=counts,
         book_note=str(book.get("note", "")),
         checks=tuple(checks),
+        requirements=requirements,
+        design=design,
     )
+
+
+def _parse_requirements(src: TomlSource, raw) -> tuple[RequirementSpec, ...]:
+    """The scene's ``[[requirements]]``: each a question of the design dialogue with its unit and default."""
+    if not isinstance(raw, list):
+        raise src.error("requirements: expected [[requirements]] tables", src.line_of("requirements"))
+    specs = []
+    for i, item in enumerate(raw):
+        line = src.table_line("requirements", i)
+        if not isinstance(item, dict) or not all(isinstance(v, str) for v in item.values()):
+            raise src.error("requirements: each [[requirements]] has text values: "
+                            f"{', '.join(sorted(_REQUIREMENT_KEYS))}", line)
+        unknown = set(item) - _REQUIREMENT_KEYS
+        if unknown or not {"id", "label", "kind"} <= set(item):
+            raise src.error(f"requirements: a requirement has id, label and kind (and unit, default, help); "
+                            f"got {', '.join(sorted(item))}", line)
+        try:
+            spec = RequirementSpec(item["id"], item["label"], item["kind"], item.get("unit", ""),
+                                   item.get("default", ""), item.get("help", ""))
+        except DomesError as exc:
+            raise src.error(f"requirements: {exc}", line) from None
+        if any(s.id == spec.id for s in specs):
+            raise src.error(f"requirements: {spec.id!r} is declared twice", line)
+        specs.append(spec)
+    return tuple(specs)
+
+
+def _mentions(src: TomlSource, needle: str, after: int) -> int:
+    """The first line after ``after`` whose text holds ``needle`` (``after`` when none does)."""
+    return next((n for n, text in enumerate(src.text.splitlines(), 1) if n > after and needle in text), after)
+
+
+def _parse_design(src: TomlSource, raw, requirements, name) -> dict | None:
+    """The scene's ``[design]``: a task template, checks and weights, tried with the requirements' defaults."""
+    if raw is None:
+        return None
+    line = next((n for n, text in enumerate(src.text.splitlines(), 1) if text.strip().startswith("[design")), 0)
+    if not isinstance(raw, dict) or not isinstance(raw.get("task"), dict) or set(raw) - _DESIGN_KEYS:
+        raise src.error("[design] has a [design.task] table (a curve task, docs/synthesis.md), and optionally "
+                        "[[design.checks]] and [design.weights]", line)
+    declared = {s.id for s in requirements}
+    for rid, _unit in sorted(placeholders([raw.get("task"), raw.get("checks", [])]), key=str):
+        if rid not in declared:
+            raise src.error(f"[design] names requirement {rid!r}, which [[requirements]] does not declare "
+                            f"(declared: {', '.join(sorted(declared)) or 'none'})", _mentions(src, f"{{{rid}", line))
+    checks = raw.get("checks", [])
+    if not isinstance(checks, list):
+        raise src.error("[design] checks: expected [[design.checks]] tables", line)
+    try:
+        weights_from(raw.get("weights", {}), "[design.weights]")
+        defaults = {s.id: s.parse(s.default) for s in requirements if s.default}
+        missing = declared - set(defaults)
+        if not missing:  # every default given: the brief must build from them
+            brief_from(name, raw["task"], checks, defaults, raw.get("weights"))
+        else:
+            for k, c in enumerate(checks, 1):
+                if not placeholders(c):
+                    check_spec(c, f"check {k}")
+    except DomesError as exc:
+        raise src.error(f"[design]: {exc}", line) from None
+    return {"task": raw["task"], "checks": list(checks), "weights": dict(raw.get("weights", {}))}
 
 
 def link_degrees(links: int, dof: int, fractionated: bool) -> Degrees:

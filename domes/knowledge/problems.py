@@ -25,11 +25,12 @@ from domes.errors import InputError
 from domes.knowledge.frames import ID_PATTERN
 from domes.knowledge.relevance import RelevanceVector
 from domes.language.parse import normalise_name
+from domes.model.requirements import Requirement
 
 #: Structural attributes (Table 7-1 slots 3-10), all whole numbers.
 STRUCTURAL = ("outputs", "dof", "space", "loops", "gear_pairs", "slider_pairs", "links", "joints")
 _FIELDS = ("id", "title", "problem_class", *STRUCTURAL, "names", "scene", "relevance", "results", "rejected",
-           "notes", "criteria_added", "source", "date", "mechanisms")
+           "notes", "criteria_added", "source", "date", "mechanisms", "requirements", "designs")
 
 
 @dataclass(frozen=True)
@@ -58,6 +59,11 @@ class ProblemFrame:
     date: str = ""
     #: Verified dimensioned mechanisms of kept candidates: ``{"candidate", "task", "error", "mechanism"}``.
     mechanisms: tuple[dict, ...] = ()
+    #: The requirements the designer stated (the motion, stroke, forces, size, accuracy), each with its unit.
+    requirements: tuple[Requirement, ...] = ()
+    #: The feasibility level and the ranking: one record per quasi-feasible candidate (status, checks,
+    #: mechanism, rank and score when feasible), best first.
+    designs: tuple[dict, ...] = ()
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "problem_class", normalise_name(self.problem_class))
@@ -106,11 +112,15 @@ class ProblemFrame:
             if isinstance(value, str) or not all(isinstance(x, str) for x in value):
                 raise InputError(f"{where}.{key}: expected a list of text")
             kwargs[key] = frozenset(value) if key == "names" else tuple(value)
-        for key in ("results", "rejected", "mechanisms"):
+        for key in ("results", "rejected", "mechanisms", "designs"):
             value = data.get(key, [])
             if not isinstance(value, list) or not all(isinstance(x, dict) for x in value):
                 raise InputError(f"{where}.{key}: expected a list of objects")
             kwargs[key] = tuple(value)
+        requirements = data.get("requirements", [])
+        if not isinstance(requirements, list):
+            raise InputError(f"{where}.requirements: expected a list of requirements")
+        kwargs["requirements"] = tuple(Requirement.from_dict(r, f"{where}.requirements") for r in requirements)
         relevance = data.get("relevance")
         if relevance is not None:
             if not isinstance(relevance, Mapping) or set(relevance) != {"ids", "bits"}:
@@ -135,4 +145,8 @@ class ProblemFrame:
         out["date"] = self.date
         if self.mechanisms:
             out["mechanisms"] = [dict(m) for m in self.mechanisms]
+        if self.requirements:
+            out["requirements"] = [r.to_dict() for r in self.requirements]
+        if self.designs:
+            out["designs"] = [dict(d) for d in self.designs]
         return out

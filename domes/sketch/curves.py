@@ -11,6 +11,8 @@ drawings on one page, a card each (the page of :mod:`domes.sketch.atlas`).
 >>> svg = moving_svg(m, trace(m, "P", 90, extra=joint_names(m)).circuits[0])
 >>> svg.count("<animate "), 'class="coupler-curve"' in svg
 (24, True)
+
+:func:`animated_svg` does the same for any joint tracks (a dimensioned design moving through its stroke).
 """
 
 from __future__ import annotations
@@ -43,26 +45,38 @@ def moving_svg(mech: Mechanism, circuit, wanted=None, size: float = SIZE, point:
     """The mechanism animated along ``circuit`` (traced with ``extra=joint_names(mech)``), its curve and ``wanted``."""
     pts = circuit.points
     frames = np.unique(np.linspace(0, len(pts) - 1, min(FRAMES, len(pts))).astype(int))
-    joints = {name: circuit.extra[name] for name in circuit.extra}
-    everything = [tuple(p) for p in pts] + [tuple(p) for arr in joints.values() for p in arr[frames]]
+    tracks = {name: np.asarray(circuit.extra[name])[frames] for name in circuit.extra}
+    tracks[point] = np.asarray(pts)[frames]
+    return animated_svg(mech, tracks, path=np.vstack([pts, pts[:1]]), wanted=wanted, size=size, point=point)
+
+
+def animated_svg(mech: Mechanism, tracks, path=None, wanted=None, size: float = SIZE, point: str | None = None,
+                 seconds: float = SECONDS, title: str | None = None) -> str:
+    """The mechanism's links moving through the poses of ``tracks`` (joint or point name -> ``(F, 2)``
+    positions, one row per frame; SVG ``<animate>``, no script), with a ``path`` drawn under it and ``wanted``
+    points; ``point`` is a coupler point that moves with its link."""
+    everything = [tuple(p) for arr in tracks.values() for p in np.asarray(arr)]
+    if path is not None:
+        everything += [tuple(p) for p in np.asarray(path)]
     if wanted is not None:
         everything += [tuple(p) for p in np.asarray(wanted)]
     frame = Frame.fit(everything, size, 18.0)
-    items = [tag("polyline", {"class": "coupler-curve", "points": points(frame(tuple(p)) for p in np.vstack([pts, pts[:1]])),
-                              "fill": "none", "stroke": "#c1121f", "stroke-width": "1.2"})]
+    items = []
+    if path is not None:
+        items.append(tag("polyline", {"class": "coupler-curve", "points": points(frame(tuple(p)) for p in np.asarray(path)),
+                                      "fill": "none", "stroke": "#c1121f", "stroke-width": "1.2"}))
     if wanted is not None:
         for p in np.asarray(wanted):
             x, y = frame(tuple(p))
             items.append(tag("circle", {"class": "wanted", "cx": num(x), "cy": num(y), "r": "2.2", "fill": "#2a9d8f"}))
-    dur = f"{SECONDS}s"
+    dur = f"{seconds:g}s"
 
-    def moving(name, attr, values):
+    def moving(attr, values):
         return tag("animate", {"attributeName": attr, "values": ";".join(num(v) for v in values), "dur": dur,
                                "repeatCount": "indefinite"})
 
     def track(name):
-        xy = np.array([frame(tuple(p)) for p in joints[name][frames]])
-        return xy
+        return np.array([frame(tuple(p)) for p in np.asarray(tracks[name])])
 
     grounded = {j.name for j in mech.joints if mech.ground in j.links}
     first = {}
@@ -71,18 +85,19 @@ def moving_svg(mech: Mechanism, circuit, wanted=None, size: float = SIZE, point:
     for link in mech.links:
         if link == mech.ground:
             continue
-        names = list(dict.fromkeys(first[j.at] for j in mech.joints if link in j.links and first[j.at] in joints))
-        if link == mech.point(point)[0] and point not in names:
+        names = list(dict.fromkeys(first[j.at] for j in mech.joints if link in j.links and first[j.at] in tracks))
+        if point is not None and point in tracks and mech.point(point)[0] == link and point not in names:
             names.append(point)
-        tracks = {n: (track(n) if n in joints else np.array([frame(tuple(p)) for p in pts[frames]])) for n in names}
+        xy = {n: track(n) for n in names}
         for a, b in zip(names, names[1:] + names[:1] if len(names) > 2 else names[1:]):
-            ta, tb = tracks[a], tracks[b]
-            kids = [moving(a, "x1", ta[:, 0]), moving(a, "y1", ta[:, 1]), moving(b, "x2", tb[:, 0]),
-                    moving(b, "y2", tb[:, 1])]
+            ta, tb = xy[a], xy[b]
+            kids = [moving("x1", ta[:, 0]), moving("y1", ta[:, 1]), moving("x2", tb[:, 0]), moving("y2", tb[:, 1])]
             items.append(tag("line", {"class": "link", "x1": num(ta[0, 0]), "y1": num(ta[0, 1]), "x2": num(tb[0, 0]),
                                       "y2": num(tb[0, 1]), "stroke": "#1d3557", "stroke-width": "2.5",
                                       "stroke-linecap": "round"}, kids))
-    for name in joints:
+    for name in tracks:
+        if name == point:
+            continue
         t = track(name)
         if name in grounded:
             items.append(tag("rect", {"class": "pivot", "x": num(t[0, 0] - 4), "y": num(t[0, 1] - 4), "width": "8",
@@ -90,8 +105,8 @@ def moving_svg(mech: Mechanism, circuit, wanted=None, size: float = SIZE, point:
         else:
             items.append(tag("circle", {"class": "joint", "cx": num(t[0, 0]), "cy": num(t[0, 1]), "r": "3",
                                         "fill": "#fff", "stroke": "#1d3557"},
-                             [moving(name, "cx", t[:, 0]), moving(name, "cy", t[:, 1])]))
-    return document(size, size, items, title=mech.name)
+                             [moving("cx", t[:, 0]), moving("cy", t[:, 1])]))
+    return document(size, size, items, title=title or mech.name)
 
 
 def curves_html(cards, title: str, summary: str = "") -> str:

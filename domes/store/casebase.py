@@ -23,15 +23,21 @@ domes.errors.InputError: a criterion with id 'c1' is already in the knowledge ba
 
 from __future__ import annotations
 
+import copy
+import dataclasses
+import datetime as _dt
 import json
 import os
+import random
+import time
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterable, Iterator
 
-from sqlalchemy import create_engine, func, inspect, select, text
+from sqlalchemy import create_engine, event, func, inspect, select, text
 from sqlalchemy.engine import Engine, make_url
-from sqlalchemy.exc import ArgumentError, SQLAlchemyError
+from sqlalchemy.exc import ArgumentError, IntegrityError, SQLAlchemyError
 from sqlalchemy.orm import Session
 
 from domes.errors import DomesError, InputError
@@ -39,7 +45,15 @@ from domes.io.criteria import check_unique, read_cases, read_knowledge
 from domes.io.resources import default_casebase, knowledge_dir, shipped_casebase, user_casebase
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
-from domes.store.models import SCHEMA_VERSIONS, Base, CriterionRow, ProblemRow, SchemaVersion
+from domes.store.models import (
+    ADDED_COMPONENTS,
+    SCHEMA_VERSIONS,
+    Base,
+    CriterionRow,
+    HistoryRow,
+    ProblemRow,
+    SchemaVersion,
+)
 
 DB_ENV = "DOMES_DB"
 
@@ -93,11 +107,33 @@ def shown(url: str) -> str:
     return url if parsed.password is None else parsed.render_as_string(hide_password=True)
 
 
+#: The execution option of a unit of work that writes: on SQLite it starts with ``BEGIN IMMEDIATE``.
+IMMEDIATE = "domes_immediate"
+
+
 def _engine(url: str) -> Engine:
     try:
-        return create_engine(url)
+        engine = create_engine(url)
     except (ArgumentError, SQLAlchemyError, ImportError) as exc:
         raise InputError(f"cannot open the case base {shown(url)}: {exc}") from None
+    if engine.dialect.name == "sqlite":
+        # SQLite lets two writers read the same largest number and then collide; a unit of work that writes
+        # takes the write lock when it begins (BEGIN IMMEDIATE), so writers queue instead (the driver waits
+        # for the lock up to its timeout). pysqlite's own transaction handling is turned off for that.
+        @event.listens_for(engine, "connect")
+        def _connect(dbapi_connection, record):
+            dbapi_connection.isolation_level = None
+
+        @event.listens_for(engine, "begin")
+        def _begin(connection):
+            write = connection.get_execution_options().get(IMMEDIATE)
+            connection.exec_driver_sql("BEGIN IMMEDIATE" if write else "BEGIN")
+    return engine
+
+
+def _now() -> str:
+    """The time of a change, UTC, to the second (ISO 8601)."""
+    return _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
 
 
 def open_engine(url: str, create: bool = False) -> Engine:
@@ -136,6 +172,8 @@ def open_engine(url: str, create: bool = False) -> Engine:
         engine.dispose()
         raise
     for component, version in SCHEMA_VERSIONS.items():
+        if component in ADDED_COMPONENTS and component not in found:
+            continue  # added on the first write (KnowledgeBase._ensure_history)
         if found.get(component) != version:
             engine.dispose()
             have = "no" if component not in found else f"version {found[component]} of the"
@@ -146,32 +184,148 @@ def open_engine(url: str, create: bool = False) -> Engine:
     return engine
 
 
+def _columns(row) -> dict:
+    """A row as plain data: every column's value (JSON columns deep-copied, so later edits leave it alone)."""
+    return {c.key: copy.deepcopy(getattr(row, c.key)) for c in row.__table__.columns}
+
+
+#: The tables whose rows a history entry records, by name.
+TABLES = {CriterionRow.__tablename__: CriterionRow, ProblemRow.__tablename__: ProblemRow}
+#: How often a unit of work that met another writer's change is run again (SQLite serialises writers; another
+#: database may report a conflict at commit).
+ATTEMPTS = 8
+
+
+class _Conflict(Exception):
+    """Another writer changed what this unit of work read; run it again."""
+
+
+class _Changes:
+    """The rows one unit of work touches, with their columns before it; after it, the changes it made."""
+
+    def __init__(self, session: Session):
+        self.session = session
+        self.before: dict[tuple[str, str], dict | None] = {}
+
+    def touch(self, model, key: str) -> None:
+        """Note a row about to change (or to be made): its columns now, once per unit of work."""
+        slot = (model.__tablename__, key)
+        if slot not in self.before:
+            row = self.session.get(model, key)
+            self.before[slot] = None if row is None else _columns(row)
+
+    def made(self) -> list[dict]:
+        """``{"table", "key", "before", "after"}`` for each row that changed, in the order touched."""
+        self.session.flush()
+        out = []
+        for (table, key), before in self.before.items():
+            row = self.session.get(TABLES[table], key)
+            after = None if row is None else _columns(row)
+            if before != after:
+                out.append({"table": table, "key": key, "before": before, "after": after})
+        return out
+
+
+@dataclass(frozen=True)
+class HistoryEntry:
+    """One change of the case base (see :class:`~domes.store.models.HistoryRow`)."""
+
+    number: int
+    time: str
+    session: str
+    action: str
+    target: str
+    why: str
+    changes: tuple[dict, ...]
+
+    def to_dict(self) -> dict:
+        return {"number": self.number, "time": self.time, "session": self.session, "action": self.action,
+                "target": self.target, "why": self.why, "changes": [dict(c) for c in self.changes]}
+
+    @property
+    def summary(self) -> str:
+        """What changed, in a few words: ``criterion designer-1a2b3c4d added``."""
+        words = []
+        for c in self.changes:
+            what = "criterion" if c["table"] == "criteria" else "case"
+            verb = "added" if c["before"] is None else ("removed" if c["after"] is None else "changed")
+            words.append(f"{what} {c['key']} {verb}")
+        return "; ".join(words) or "nothing"
+
+
 class KnowledgeBase:
     """The criterion frames of a case base; every method is one unit of work (one session, one transaction).
 
     ``url`` is a SQLAlchemy URL or an SQLite path (None: :func:`database_url`);
     ``write`` says the caller will change it (without a ``url``, the user's case
-    base is then made if there is none).
+    base is then made if there is none). ``actor`` names who changes it (a
+    command, a design session): every change keeps a history entry (what,
+    when, who, why) that :meth:`undo` takes back.
     """
 
-    def __init__(self, url: str | None = None, create: bool = False, write: bool = False):
+    def __init__(self, url: str | None = None, create: bool = False, write: bool = False, actor: str = ""):
         self.url = database_url(url, write=write or create)
         self.engine = open_engine(self.url, create=create)
+        self.actor = actor or "python"
 
     def close(self) -> None:
         self.engine.dispose()
 
     @contextmanager
-    def _unit(self) -> Iterator[Session]:
-        """One unit of work that changes the case base: one session, one transaction, all or nothing."""
+    def _unit(self, action: str | None = None, target: str = "", why: str = "") -> Iterator[Session]:
+        """One unit of work that changes the case base: one session, one transaction, all or nothing.
+
+        With ``action``, the rows the work touched (``session.info["changes"]``)
+        are kept as one history entry in the same transaction.
+        """
+        self._ensure_history()
         try:
             with Session(self.engine) as session, session.begin():
+                session.connection(execution_options={IMMEDIATE: True})
+                changes = session.info["changes"] = _Changes(session)
                 yield session
+                if action:
+                    made = changes.made()
+                    if made:
+                        session.add(HistoryRow(time=_now(), session=self.actor, action=action,
+                                               target=session.info.get("target", target), why=why, changes=made))
+        except IntegrityError as exc:
+            raise _Conflict(str(exc)) from None
         except SQLAlchemyError as exc:
             reason = str(getattr(exc, "orig", None) or exc).splitlines()[0]
             hint = ("the embedded case base is read-only: open it with write=True to change your own copy, "
                     "or give --db / DOMES_DB") if "readonly" in reason else "nothing was changed"
             raise InputError(f"cannot change the case base {shown(self.url)}: {reason}; {hint}") from None
+
+    def _transact(self, work, action: str | None = None, target: str = "", why: str = ""):
+        """Run ``work(session)`` as one unit of work (:meth:`_unit`); run it again when another writer got in
+        first (a number or id taken meanwhile), up to :data:`ATTEMPTS` times."""
+        for attempt in range(ATTEMPTS):
+            try:
+                with self._unit(action, target, why) as session:
+                    return work(session)
+            except _Conflict as exc:
+                if attempt == ATTEMPTS - 1:
+                    reason = str(exc).splitlines()[0]
+                    raise InputError(f"cannot change the case base {shown(self.url)}: other writers kept changing "
+                                     f"it ({reason}); nothing was changed, try again") from None
+                time.sleep(0.01 * (attempt + 1) * (1 + random.random()))
+
+    def _ensure_history(self) -> None:
+        """A case base made before the history component gets it (one transaction), before its first change."""
+        if self._has_history():
+            return
+        try:
+            with self.engine.begin() as conn:
+                Base.metadata.create_all(conn, tables=[HistoryRow.__table__])
+                if conn.execute(select(SchemaVersion).where(SchemaVersion.component == "history")).first() is None:
+                    conn.execute(SchemaVersion.__table__.insert(), [{"component": "history",
+                                                                     "version": SCHEMA_VERSIONS["history"]}])
+        except SQLAlchemyError:
+            pass  # a read-only case base: the change itself says so
+
+    def _has_history(self) -> bool:
+        return HistoryRow.__tablename__ in set(inspect(self.engine).get_table_names())
 
     def __enter__(self) -> "KnowledgeBase":
         return self
@@ -256,39 +410,49 @@ class KnowledgeBase:
                 problems.append(f"{frame.id}: the stored relevance differs from the parse of its relevance text")
         return problems
 
-    # -- editing: each method one transaction --------------------------------------------
+    # -- editing: each method one transaction, kept in the history --------------------------
 
     @staticmethod
     def _insert(session: Session, frames: list[CriterionFrame]) -> None:
+        changes = session.info.get("changes")
         for frame in frames:
             if session.get(CriterionRow, frame.id) is not None:
                 raise InputError(f"a criterion with id {frame.id!r} is already in the knowledge base (use edit to change it)")
         number = session.scalar(select(func.max(CriterionRow.number))) or 0
         for frame in frames:
             number += 1
+            if changes is not None:
+                changes.touch(CriterionRow, frame.id)
             session.add(CriterionRow(number=number, **CriterionRow.columns_of(frame)))
 
-    def add(self, frame: CriterionFrame) -> None:
+    def add(self, frame: CriterionFrame, why: str = "") -> None:
         """Add one frame; a duplicate id is refused."""
-        self.import_frames([frame])
+        self._transact(lambda session: self._insert(session, [frame]), "add criterion", frame.id, why)
 
-    def import_frames(self, frames: Iterable[CriterionFrame]) -> None:
+    def import_frames(self, frames: Iterable[CriterionFrame], why: str = "") -> None:
         """Add frames, all or none: duplicate ids (among them or with the knowledge base) are refused."""
         frames = list(frames)
         check_unique(frames, "import")
-        with self._unit() as session:
-            self._insert(session, frames)
+        self._transact(lambda session: self._insert(session, frames), "import criteria",
+                       ", ".join(f.id for f in frames), why)
 
-    def update(self, frame: CriterionFrame) -> None:
+    def update(self, frame: CriterionFrame, why: str = "", action: str = "edit criterion") -> None:
         """Replace the stored frame that has ``frame.id`` (its position is kept)."""
-        with self._unit() as session:
+        def work(session):
             row = self._row(session, frame.id)
+            session.info["changes"].touch(CriterionRow, frame.id)
             for column, value in CriterionRow.columns_of(frame).items():
                 setattr(row, column, value)
 
-    def remove(self, criterion_id: str) -> None:
-        with self._unit() as session:
-            session.delete(self._row(session, criterion_id))
+        self._transact(work, action, frame.id, why)
+
+    def remove(self, criterion_id: str, why: str = "") -> None:
+        def work(session):
+            row = self._row(session, criterion_id)
+            session.info["changes"].touch(CriterionRow, criterion_id)
+            session.delete(row)
+
+        self._transact(work, "remove criterion", criterion_id, why)
 
     # -- solved-problem frames (Table 7-1) -----------------------------------------------
 
@@ -329,29 +493,90 @@ class KnowledgeBase:
 
     @staticmethod
     def _insert_problems(session: Session, frames: list[ProblemFrame], replace: bool = False) -> None:
+        changes = session.info.get("changes")
         number = session.scalar(select(func.max(ProblemRow.number))) or 0
         for frame in frames:
             data = KnowledgeBase._stored(frame)
             row = session.get(ProblemRow, frame.id)
             if row is not None and not replace:
                 raise InputError(f"a case with id {frame.id!r} is already in the case base")
+            if changes is not None:
+                changes.touch(ProblemRow, frame.id)
             if row is None:
                 number += 1
                 session.add(ProblemRow(id=frame.id, number=number, problem_class=frame.problem_class, frame=data))
             else:
                 row.problem_class, row.frame = frame.problem_class, data
 
-    def retain(self, frame: ProblemFrame, replace: bool = False) -> None:
+    def retain(self, frame: ProblemFrame, replace: bool = False, why: str = "") -> None:
         """Store a solved problem (one transaction); an existing id is refused unless ``replace``."""
-        with self._unit() as session:
-            self._insert_problems(session, [frame], replace)
+        self._transact(lambda session: self._insert_problems(session, [frame], replace), "retain case", frame.id, why)
 
-    def remove_problem(self, problem_id: str) -> None:
-        with self._unit() as session:
+    def retain_new(self, frame: ProblemFrame, why: str = "") -> ProblemFrame:
+        """Store a solved problem under the first free id ``BASE-N`` (``BASE`` its id), chosen inside the
+        transaction, so that writers at the same time never take one id twice; returns the frame as stored."""
+        def work(session):
+            taken = set(session.scalars(select(ProblemRow.id).where(ProblemRow.id.startswith(f"{frame.id}-", autoescape=True))))
+            number = 1
+            while f"{frame.id}-{number}" in taken:
+                number += 1
+            stored = dataclasses.replace(frame, id=f"{frame.id}-{number}")
+            self._insert_problems(session, [stored])
+            session.info["target"] = stored.id
+            return stored
+
+        return self._transact(work, "retain case", frame.id, why)
+
+    def remove_problem(self, problem_id: str, why: str = "") -> None:
+        def work(session):
             row = session.get(ProblemRow, problem_id)
             if row is None:
                 raise InputError(f"no case {problem_id!r} in the case base (see `domes cases list`)")
+            session.info["changes"].touch(ProblemRow, problem_id)
             session.delete(row)
+
+        self._transact(work, "remove case", problem_id, why)
+
+    # -- the history ----------------------------------------------------------------------
+
+    def history(self) -> list[HistoryEntry]:
+        """Every recorded change, oldest first (none for a case base made before the history was kept)."""
+        if not self._has_history():
+            return []
+        with self._reading() as session:
+            rows = session.scalars(select(HistoryRow).order_by(HistoryRow.number)).all()
+            return [HistoryEntry(r.number, r.time, r.session, r.action, r.target, r.why, tuple(r.changes))
+                    for r in rows]
+
+    def undo(self, number: int | None = None) -> list[HistoryEntry]:
+        """Take back the last change (or every change from entry ``number`` on), newest first, in one
+        transaction: each row touched gets back its columns from before, and the entries are removed, so the
+        case base is as it was. Returns the entries taken back."""
+        entries = self.history()
+        if not entries:
+            raise InputError(f"nothing to undo: the case base {shown(self.url)} has no recorded change")
+        numbers = [e.number for e in entries]
+        if number is None:
+            number = numbers[-1]
+        if number not in numbers:
+            raise InputError(f"no history entry {number} (entries {numbers[0]} to {numbers[-1]}; see `domes kb history`)")
+        undone = [e for e in reversed(entries) if e.number >= number]
+
+        def work(session):
+            for entry in undone:
+                for change in reversed(entry.changes):
+                    model = TABLES[change["table"]]
+                    row = session.get(model, change["key"])
+                    if row is not None:
+                        session.delete(row)
+                        session.flush()
+                    if change["before"] is not None:
+                        session.add(model(**change["before"]))
+                        session.flush()
+                session.delete(session.get(HistoryRow, entry.number))
+
+        self._transact(work)
+        return undone
 
 
 def copy_casebase(source: str, target: str) -> None:
@@ -435,8 +660,9 @@ def build(source: str | Path | None = None, url: str | None = None, force: bool 
     try:
         kb = KnowledgeBase(f"sqlite:///{tmp}", create=True)
         try:
-            kb.import_frames(frames)
-            with Session(kb.engine) as session, session.begin():
+            check_unique(frames, "build")
+            with Session(kb.engine) as session, session.begin():  # built, not changed: no history entry
+                KnowledgeBase._insert(session, frames)
                 KnowledgeBase._insert_problems(session, cases)
         finally:
             kb.close()

@@ -8,7 +8,7 @@ reads and writes; opening a database of another version is refused with a
 message (see :func:`domes.store.casebase.open_engine`).
 
 >>> sorted(Base.metadata.tables)
-['criteria', 'problems', 'schema_version']
+['criteria', 'history', 'problems', 'schema_version']
 """
 
 from __future__ import annotations
@@ -22,7 +22,9 @@ from domes.knowledge.frames import CriterionFrame
 from domes.language.tree import category, from_json, to_json
 
 #: Schema version of each component of the case base.
-SCHEMA_VERSIONS: dict[str, int] = {"knowledge": 1, "cases": 1}
+SCHEMA_VERSIONS: dict[str, int] = {"knowledge": 1, "cases": 1, "history": 1}
+#: Components a case base made before them may lack: they are added on the first write.
+ADDED_COMPONENTS = ("history",)
 
 
 class Base(DeclarativeBase):
@@ -94,3 +96,20 @@ class ProblemRow(Base):
     number: Mapped[int] = mapped_column(Integer, unique=True)
     problem_class: Mapped[str] = mapped_column(String(128), index=True)
     frame: Mapped[dict[str, Any]] = mapped_column(JSON)
+
+
+class HistoryRow(Base):
+    """One change of the case base: what (``action``, ``target``), when, in which session, why, and the rows
+    it changed (``changes``: ``{"table", "key", "before", "after"}``, each row as its columns, None where there
+    was none), from which :meth:`~domes.store.casebase.KnowledgeBase.undo` restores them.
+    """
+
+    __tablename__ = "history"
+
+    number: Mapped[int] = mapped_column(Integer, primary_key=True)
+    time: Mapped[str] = mapped_column(String(32))
+    session: Mapped[str] = mapped_column(Text)
+    action: Mapped[str] = mapped_column(String(64))
+    target: Mapped[str] = mapped_column(Text)
+    why: Mapped[str] = mapped_column(Text)
+    changes: Mapped[list[dict[str, Any]]] = mapped_column(JSON)

@@ -26,6 +26,7 @@ from typing import Callable, Iterable
 from domes.language.evaluate import compile_criterion
 from domes.language.tree import And, Criterion, ForAll, JointCount, Not
 from domes.model.labelled import LabelledChain
+from domes.model.requirements import RequirementSpec
 
 SELECTIONS = ("link", "adjacent pair", "pair")
 
@@ -90,6 +91,11 @@ class Scene:
     book_counts: tuple[int | None, ...]
     book_note: str
     checks: tuple[SceneCheck, ...] = ()
+    #: What a design session asks when the candidates are to be dimensioned (docs/expert.md).
+    requirements: tuple[RequirementSpec, ...] = ()
+    #: How the candidates are dimensioned and checked: ``{"task": ..., "checks": [...], "weights": {...}}``
+    #: (a task template whose strings ``"{ID}"`` name requirements; :mod:`domes.design.brief`), or None.
+    design: dict | None = None
 
     @property
     def roles(self) -> list[str]:

@@ -15,6 +15,7 @@ from domes.design.synthesis.pathfit import crank_rocker_path
 from domes.errors import InputError
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.sweep import solve
+from tests.sampling import allowed_misses, cases
 
 EXAMPLE_2 = [gd.Position((1.0, 1.0), 0.0), gd.Position((2.0, 0.5), 0.0), gd.Position((3.0, 1.5), math.radians(45)),
              gd.Position((2.0, 2.0), math.radians(90))]
@@ -333,14 +334,15 @@ def test_path_generation_round_trip_of_200_four_bars():
     # and every solution meets its five points to 1e-9.
     from domes.design.synthesis.path import five_points
 
+    # (a sample of the 200 by default; all with DOMES_FULL_TESTS=1: tests/sampling.py)
     rng = np.random.default_rng(15)
-    found = 0
-    for _ in range(200):
+    found, count = 0, cases(200)
+    for _ in range(count):
         pts, a0, b0, (B, C) = _four_bar_path(rng)
         sols = five_points(pts, a0, b0)
         assert all(s.residual <= 1e-9 for s in sols)
         found += any(math.dist(s.a1, B) < 1e-8 and math.dist(s.b1, C) < 1e-8 for s in sols)
-    assert found >= 198, found
+    assert found >= count - allowed_misses(count, 0.01), found
 
 
 def test_the_fast_method_finds_a_subset_of_the_exact_roots():
@@ -455,9 +457,11 @@ def test_five_position_guidance_round_trip_of_200_four_bars():
     # solutions in at least 99% of cases, and every solution meets its positions to 1e-9 of their size.
     from domes.design.synthesis.task import GuidanceTask
 
+    # (a sample of the 200 by default; all with DOMES_FULL_TESTS=1: tests/sampling.py)
     rng = np.random.default_rng(200)
     hits = total = 0
-    while total < 200:
+    count = cases(200)
+    while total < count:
         a, b, c, d = rng.uniform(0.5, 3.0, 4)
         thetas = np.sort(rng.uniform(0, 2 * math.pi, 5))
         try:
@@ -474,4 +478,4 @@ def test_five_position_guidance_round_trip_of_200_four_bars():
                         math.dist(s.fourbar.b0, (0, 0)) + math.dist(s.fourbar.b1, B1)
                         + math.dist(s.fourbar.a0, (d, 0)) + math.dist(s.fourbar.a1, C1)) < 1e-6
                     for s in result.solutions)
-    assert hits >= 198, hits
+    assert hits >= count - allowed_misses(count, 0.01), hits

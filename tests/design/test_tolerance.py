@@ -100,7 +100,8 @@ def test_seeded_monte_carlo_is_reproducible_and_batches_do_not_matter_for_the_se
 
 
 def test_bad_input_is_named():
-    with pytest.raises(InputError, match="slides between two moving links"):
+    # an offset slotted lever: its slide runs between two moving links and off the lever's pin
+    with pytest.raises(InputError, match="slides between two moving links whose pins O4 and A are not apart on its line"):
         Tolerancing(load_mechanism("examples/mechanisms/inverted-slider.json"), "angle:crank", ANGLES, relative=1e-4)
     with pytest.raises(InputError, match="either an absolute tolerance or a relative one"):
         Tolerancing(four_bar(), "angle:rocker", ANGLES)

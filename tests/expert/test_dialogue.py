@@ -53,7 +53,7 @@ def test_identical_attributes_are_recognised_as_the_same_problem(casebase):
     # The designer says "different", but the case-based reasoner finds a solved problem
     # with the same class, structure and representative attributes.
     text = MOTORCYCLE.replace("class: motorcycle rear suspension\n", "class: motorcycle rear suspension\nrelation: different\n")
-    text = text.split("scene:")[0]
+    text = text.split("relevance_overrides:")[0]  # recognised once the scene and its requirements are known
     outcome, said = run(casebase, text)
     assert outcome.relation == "same" and outcome.case == CASE
     assert "same class, structure and attributes" in said

@@ -10,13 +10,10 @@ without Debian's postgresql package the tests are skipped with a note.
 import json
 from pathlib import Path
 
-from sqlalchemy import create_engine, select
-
 from domes.cli import main
 from domes.io.criteria import read_cases
 from domes.store.casebase import KnowledgeBase, build
-from domes.store.models import Base
-from tests.postgres import postgres_casebase_fixture, postgres_server_fixture  # noqa: F401 (fixtures)
+from tests.postgres import contents, postgres_casebase_fixture, postgres_server_fixture  # noqa: F401 (fixtures)
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout
 SHIPPED = ROOT / "knowledge"
@@ -29,15 +26,6 @@ def run(capsys, *argv):
     out, err = capsys.readouterr()
     return status, out, err
 
-
-def contents(url):
-    """Every row of every table of the case base, in primary-key order."""
-    engine = create_engine(url)
-    try:
-        with engine.connect() as conn:
-            return {t.name: conn.execute(select(t).order_by(*t.primary_key)).all() for t in Base.metadata.sorted_tables}
-    finally:
-        engine.dispose()
 
 
 def test_a_design_session_retains_the_same_case_in_postgresql_as_in_sqlite(postgres_casebase, tmp_path, capsys):

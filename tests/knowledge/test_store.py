@@ -11,7 +11,7 @@ import json
 from pathlib import Path
 
 import pytest
-from sqlalchemy import create_engine, inspect, select, update
+from sqlalchemy import create_engine, inspect, update
 from sqlalchemy import text as sql
 
 from domes.cli import main
@@ -20,8 +20,8 @@ from domes.io.criteria import read_cases, read_file, read_knowledge
 from domes.knowledge.frames import CriterionFrame
 from domes.language.tree import to_json
 from domes.store.casebase import KnowledgeBase, build, sqlite_path
-from domes.store.models import SCHEMA_VERSIONS, Base, CriterionRow, SchemaVersion
-from tests.postgres import postgres_casebase_fixture, postgres_server_fixture  # noqa: F401 (fixtures)
+from domes.store.models import SCHEMA_VERSIONS, CriterionRow, SchemaVersion
+from tests.postgres import contents, postgres_casebase_fixture, postgres_server_fixture  # noqa: F401 (fixtures)
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout
 
@@ -78,15 +78,6 @@ def execute(url, statement):
     finally:
         engine.dispose()
 
-
-def contents(url):
-    """Every row of every table of the case base, in primary-key order."""
-    engine = create_engine(url)
-    try:
-        with engine.connect() as conn:
-            return {t.name: conn.execute(select(t).order_by(*t.primary_key)).all() for t in Base.metadata.sorted_tables}
-    finally:
-        engine.dispose()
 
 
 def state(url):
@@ -249,7 +240,15 @@ def test_edits_are_applied(db, capsys):
         kb.get("new-1")
     assert run(capsys, "kb", "check", "--db", db)[0] == 0
     kb.close()
-    assert contents(db) == before  # added, then removed: as it was
+    now = contents(db)
+    history = now.pop("history")
+    assert now == {k: v for k, v in before.items() if k != "history"}  # added, then removed: as it was
+    assert [h.action for h in history[len(before["history"]):]] == [
+        "add criterion", "edit criterion", "disable criterion", "enable criterion", "remove criterion"]
+    # every edit kept its history entry; undoing them all gives back the case base, history included
+    first = history[len(before["history"])].number
+    assert run(capsys, "kb", "undo", str(first), "--db", db)[0] == 0
+    assert contents(db) == before
 
 
 def test_check_finds_a_tree_that_does_not_match_its_text(db, capsys):

@@ -25,6 +25,7 @@ from domes.motion.coupler.fit import fit
 from domes.motion.coupler.fourbar import four_bar
 from domes.motion.coupler.fourier import describe, resample
 from domes.motion.coupler.match import match
+from tests.sampling import allowed_misses, cases
 
 
 @pytest.fixture(scope="module")
@@ -123,10 +124,12 @@ def test_matching_round_trip_of_200_random_four_bars():
     # Issue 14 acceptance: curves of 200 random four-bars (not atlas points; Grashof and not), 64 points each, placed
     # at another scale and position: look-up in the small atlas plus refinement recovers a linkage whose curve
     # passes within 1e-6 of the path's size of every point in at least 95% of cases (the rest are reported).
+    # (a sample of the 200 by default; all with DOMES_FULL_TESTS=1: tests/sampling.py)
     atlas = Atlas(build(SIZES["small"]))
     rng = np.random.default_rng(14)
     results, failures, grashof = [], [], 0
-    while len(results) < 200:
+    count = cases(200)
+    while len(results) < count:
         lengths, uv = rng.uniform(0.3, 1.7, 4), rng.uniform(-3, 3, 2)
         try:
             point = classify(*lengths)
@@ -139,8 +142,8 @@ def test_matching_round_trip_of_200_random_four_bars():
         results.append(ok)
         if not ok:
             failures.append(f"{np.round(lengths, 3)} {np.round(uv, 3)} region {point.region}: {m.message}")
-    assert 40 <= grashof <= 160
-    assert sum(results) >= 190, "\n".join(failures)
+    assert 0.2 * count <= grashof <= 0.8 * count
+    assert sum(results) >= count - allowed_misses(count, 0.05), "\n".join(failures)
 
 
 

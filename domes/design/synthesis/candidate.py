@@ -11,7 +11,21 @@ is a function of ``x`` for one quantity:
   ratio over wheel travel: falling for a rising-rate suspension);
 - ``length``: that length, ``x`` the input's rotation in degrees;
 - ``angle``: the rotation (degrees) of the link with role ``of``, ``x`` the
-  input's rotation in degrees.
+  input's rotation in degrees;
+- ``ratio``: the force the point delivers along its path per unit force in
+  that length (an actuator: the rate of the length over the point's speed,
+  by virtual work), ``x`` the input's rotation in degrees (a clamp's force
+  amplification near its toggle);
+- ``slide``: the displacement of the link with role ``of`` along its slide
+  on the ground (a P joint of direction ``guide``), ``x`` the input's
+  rotation in degrees (a window on its rails).
+
+``of`` names one role carried by two links (a shock absorber) or two roles
+(a cylinder and its piston). The wanted curve is matched (``bound``
+``equal``) or is a bound (``at least``, ``at most``), over the whole stroke
+or over ``over`` (a range of ``x``); ``overtravel`` extends the stroke the
+mechanism must move through beyond the last sample where the curve counts
+(a clamp's margin before its toggle).
 
 :func:`dimension` places every joint but the input pivot in the task's
 ``box``: it screens many random layouts at once with the compiled kernel
@@ -51,7 +65,8 @@ from domes.motion.planar.query import Kinematics
 from domes.motion.planar.sweep import sweep
 from domes.results import Listing, Progress, Status, Ticker
 
-QUANTITIES = ("leverage", "length", "angle")
+QUANTITIES = ("leverage", "length", "angle", "ratio", "slide")
+BOUNDS = ("equal", "at least", "at most")
 
 #: Weight of a penalty (transmission, length range, short links) against the relative curve error.
 PENALTY = 10.0
@@ -67,7 +82,7 @@ class CurveTask:
     name: str
     input_role: str
     pivot: tuple[float, float]
-    point: tuple[float, float]
+    point: tuple[float, float] | None
     rotation: float
     quantity: str
     of: str
@@ -80,10 +95,34 @@ class CurveTask:
     tolerance: float = 0.02
     scene: str | None = None
     candidates: tuple = ()
+    bound: str = "equal"
+    over: tuple[float, float] | None = None
+    overtravel: float = 0.0
+    guide: float | None = None
+    #: The least value a ratio (a force ratio, a leverage) may take anywhere over the stroke.
+    least: float | None = None
 
     def __post_init__(self):
         if self.quantity not in QUANTITIES:
             raise InputError(f"{self.name}: 'quantity' must be one of {', '.join(QUANTITIES)}, got {self.quantity!r}")
+        if isinstance(self.of, (list, tuple)):
+            if len(self.of) != 2 or not all(isinstance(r, str) and r for r in self.of):
+                raise InputError(f"{self.name}: 'of' names a role, or two roles (e.g. cylinder and piston)")
+            object.__setattr__(self, "of", tuple(self.of))
+        if self.bound not in BOUNDS:
+            raise InputError(f"{self.name}: 'bound' must be one of {', '.join(BOUNDS)}, got {self.bound!r}")
+        if self.quantity == "slide" and (self.guide is None or not math.isfinite(self.guide)):
+            raise InputError(f"{self.name}: a slide needs the direction of its guide on the ground ('guide_deg')")
+        if not (math.isfinite(self.overtravel) and 0 <= self.overtravel < 2 * math.pi - abs(self.rotation)):
+            raise InputError(f"{self.name}: 'overtravel' must be an angle >= 0 that keeps the stroke under a turn")
+        if self.over is not None:
+            lo, hi = self.over
+            if not lo < hi:
+                raise InputError(f"{self.name}: 'over' must be [from, to] with from < to")
+        if self.least is not None and not (self.quantity in ("ratio", "leverage") and math.isfinite(self.least)
+                                           and self.least > 0):
+            raise InputError(f"{self.name}: 'least' (the least value over the stroke) is a positive number, for a "
+                             "ratio or a leverage")
         if not (isinstance(self.samples, int) and 5 <= self.samples <= 1000):
             raise InputError(f"{self.name}: 'samples' must be a whole number from 5 to 1000, got {self.samples!r}")
         (x0, x1), (y0, y1) = self.box
@@ -91,27 +130,64 @@ class CurveTask:
             raise InputError(f"{self.name}: 'box' must be [[xmin, xmax], [ymin, ymax]] with min < max")
         if not 0 < abs(self.rotation) < 2 * math.pi:
             raise InputError(f"{self.name}: the input's rotation must be nonzero and under a full turn")
-        if math.dist(self.pivot, self.point) <= 1e-9 * self.size:
+        if self.point is None and self.quantity in ("leverage", "ratio"):
+            raise InputError(f"{self.name}: a {self.quantity} is measured at a point: give 'point'")
+        if self.point is not None and math.dist(self.pivot, self.point) <= 1e-9 * self.size:
             raise InputError(f"{self.name}: the point coincides with the input's pivot: it does not move")
         if not 0 < self.tolerance < 1:
             raise InputError(f"{self.name}: 'tolerance' (relative curve error) must be between 0 and 1")
-        xs = self.xs()
+        xs = self.xs()[self.active()]
+        if not xs.size:
+            raise InputError(f"{self.name}: 'over' leaves no sample of the stroke where the wanted curve counts")
         with np.errstate(all="ignore"):
             w = np.broadcast_to(np.asarray(self.wanted(xs), dtype=float), xs.shape)
         if not np.all(np.isfinite(w)):
             bad = float(xs[np.flatnonzero(~np.isfinite(w))[0]])
             raise InputError(f"{self.name}: the wanted curve is undefined at x = {bad:.6g}")
-        if self.quantity == "leverage" and np.any(w <= 0):
-            raise InputError(f"{self.name}: a leverage ratio must be positive over the stroke")
+        if self.quantity in ("leverage", "ratio") and np.any(w <= 0):
+            raise InputError(f"{self.name}: a {'leverage' if self.quantity == 'leverage' else 'force'} ratio must be "
+                             "positive over the stroke")
 
     @property
     def size(self) -> float:
         (x0, x1), (y0, y1) = self.box
         return max(x1 - x0, y1 - y0)
 
+    def stroke_rotations(self) -> np.ndarray:
+        """The input's rotation at each sample of the stroke (rad): ``samples`` evenly spaced, and, when the wanted
+        curve counts over a part of it (``over``, in degrees of the input), as many again within that part, so
+        that a short stretch is held everywhere, not at one sample."""
+        stroke = np.linspace(0.0, self.rotation, self.samples)
+        if self.over is None or self.quantity == "leverage":
+            return stroke
+        lo, hi = (math.radians(v) for v in self.over)
+        inside = np.linspace(max(min(lo, hi), min(0.0, self.rotation)), min(max(lo, hi), max(0.0, self.rotation)),
+                             self.samples)
+        both = np.unique(np.round(np.concatenate([stroke, inside]), 14))
+        return both if self.rotation > 0 else both[::-1]
+
+    @property
+    def stroke_count(self) -> int:
+        """How many samples the stroke has (the overtravel's follow them)."""
+        return self.stroke_rotations().size
+
     def rotations(self) -> np.ndarray:
-        """The input's rotation from the start at each sample (rad)."""
-        return np.linspace(0.0, self.rotation, self.samples)
+        """The input's rotation from the start at each sample (rad); the overtravel's samples follow the stroke's."""
+        stroke = self.stroke_rotations()
+        if self.overtravel <= 0:
+            return stroke
+        extra = max(2, math.ceil(self.samples * self.overtravel / abs(self.rotation)))
+        return np.concatenate([stroke, self.rotation + math.copysign(1.0, self.rotation)
+                               * np.linspace(0.0, self.overtravel, extra + 1)[1:]])
+
+    def active(self) -> np.ndarray:
+        """Where the wanted curve counts: the stroke's samples (not the overtravel's) within ``over``."""
+        x = self.xs()
+        mask = np.arange(x.size) < self.stroke_count
+        if self.over is not None:
+            mask &= (x >= self.over[0] - 1e-9 * max(1.0, abs(self.over[0]))) & \
+                    (x <= self.over[1] + 1e-9 * max(1.0, abs(self.over[1])))
+        return mask
 
     def xs(self) -> np.ndarray:
         """``x`` at each sample: the point's rise (leverage) or the rotation in degrees."""
@@ -194,46 +270,71 @@ class Model:
         kinds = dict(zip(chain.edges, chain.joint_types))
         self.fixed = names[(min(ground, driven), max(ground, driven))]
         self.slider = None
-        if task.quantity in ("leverage", "length"):
-            pair = chain.links_with_role(task.of)
+        self.guided = None  # the P joint of a slide on the ground
+        inv = {v: k for k, v in names.items()}
+        if task.quantity in ("leverage", "length", "ratio"):
+            pair = (chain.links_with_role(task.of) if isinstance(task.of, str)
+                    else [_one(chain, task.of[0]), _one(chain, task.of[1])])
+            what = task.of if isinstance(task.of, str) else " and ".join(task.of)
             if len(pair) != 2 or kinds.get((min(pair), max(pair))) != "P":
-                raise InputError(f"role {task.of!r}: a length needs two links joined by a P joint (a cylinder and "
+                raise InputError(f"role {what!r}: a length needs two links joined by a P joint (a cylinder and "
                                  f"its piston), found links {pair}")
             ends = []
-            for k in pair:
-                others = [e for e in chain.edges if k in e and e != (min(pair), max(pair))]
-                if len(others) != 1 or kinds[others[0]] != "R":
-                    raise InputError(f"role {task.of!r}: link {k} must carry one R joint besides the P joint")
-                ends.append(names[others[0]])
+            for k in pair:  # the axis runs through each link's pivot: its only R joint, else the one on the ground
+                others = [e for e in chain.edges if k in e and e != (min(pair), max(pair)) and kinds[e] == "R"]
+                grounded = [e for e in others if ground in e]
+                if not others or (len(others) > 1 and len(grounded) != 1):
+                    raise InputError(f"role {what!r}: link {k} must carry one R joint besides the P joint, or one "
+                                     "on the ground (its pivot)")
+                ends.append(names[others[0] if len(others) == 1 else grounded[0]])
             self.slider = names[(min(pair), max(pair))]
             self.ends = tuple(ends)
+        elif task.quantity == "slide":
+            moving = _one(chain, task.of)
+            edge = (min(ground, moving), max(ground, moving))
+            if kinds.get(edge) != "P":
+                raise InputError(f"role {task.of!r}: a slide needs the link to slide on the ground (a P joint "
+                                 f"between links {ground} and {moving})")
+            others = [e for e in chain.edges if moving in e and e != edge]
+            if len(others) != 1 or kinds[others[0]] != "R":
+                raise InputError(f"role {task.of!r}: link {moving} must carry one R joint besides its slide")
+            self.slider = self.guided = names[edge]
+            self.ends = (names[others[0]],)
         else:
             self.of_link = str(_one(chain, task.of))
         if any(t == "P" and names[e] != self.slider for e, t in kinds.items()):
             raise InputError("least-squares dimensioning places R joints; a P joint is only taken as the slide "
-                             f"between the two links of role {task.of!r}")
+                             f"of role {task.of!r}")
         self.free = [names[e] for e in chain.edges if kinds[e] == "R" and names[e] != self.fixed]
         self.links = {str(k): [names[e] for e in chain.edges if k in e and names[e] != self.slider]
                       for k in range(chain.n)}
         rng = np.random.default_rng(0)
         at = {e: tuple(task.pivot) if names[e] == self.fixed else tuple(self._random(rng, 1)[0]) for e in chain.edges}
-        directions = {}
-        if self.slider:
-            inv = {v: k for k, v in names.items()}
+        directions, guides = {}, {}
+        if self.guided:
+            at[inv[self.slider]] = at[inv[self.ends[0]]]
+            directions[inv[self.slider]] = task.guide
+            guides[inv[self.slider]] = ground
+        elif self.slider:
             at[inv[self.slider]] = at[inv[self.ends[1]]]
             p, q = at[inv[self.ends[0]]], at[inv[self.ends[1]]]
             directions[inv[self.slider]] = math.atan2(q[1] - p[1], q[0] - p[0])
-        self.template = from_labelled(chain, at, directions, inputs=[(ground, driven)], name=name,
-                                      points=[CouplerPoint(task.point_name, str(driven), tuple(task.point))])
-        outputs = [f"point:{task.point_name}"] + [f"angle:{k}" for k in self.template.links
-                                                   if k != self.template.ground]
-        if self.slider:
+        points = [] if task.point is None else [CouplerPoint(task.point_name, str(driven), tuple(task.point))]
+        self.template = from_labelled(chain, at, directions, inputs=[(ground, driven)], guides=guides, name=name,
+                                      points=points)
+        outputs = ([f"point:{task.point_name}"] if points else []) + [f"angle:{k}" for k in self.template.links
+                                                                      if k != self.template.ground]
+        if self.slider and not self.guided:
             outputs += [f"point:{e}" for e in self.ends]
+        if self.guided:
+            outputs.append(f"slide:{self.slider}")
         self.program = Program(Kinematics(self.template, outputs, order=1))
         self.ts = task.rotations()
         self.xs = task.xs()
+        self.active = task.active()
         with np.errstate(all="ignore"):
             self.wanted = np.broadcast_to(np.asarray(task.wanted(self.xs), dtype=float), self.xs.shape).copy()
+        self.wanted[~self.active] = np.nan
 
     def _random(self, rng, count):
         (x0, x1), (y0, y1) = self.task.box
@@ -255,13 +356,17 @@ class Model:
         rows = np.atleast_2d(np.asarray(rows, dtype=float))
         coords = self.coordinates(rows)
         directions = None
-        if self.slider:
+        if self.guided:
+            coords[self.slider] = coords[self.ends[0]]
+            directions = {self.slider: np.full(rows.shape[0], self.task.guide)}
+        elif self.slider:
             p, q = coords[self.ends[0]], coords[self.ends[1]]
             coords[self.slider] = q
             directions = {self.slider: np.arctan2(q[:, 1] - p[:, 1], q[:, 0] - p[:, 0])}
         prog = self.program
         geom = prog.geometry(coords, directions)
         q0 = np.broadcast_to(geom.drawn[self.fixed], (rows.shape[0], 1))
+        task = self.task
         with np.errstate(all="ignore"):
             pose = prog.poses(geom, q0 + self.ts[None, :], self.fixed)
             shape = (rows.shape[0], self.ts.size)
@@ -273,26 +378,44 @@ class Model:
             root = (np.min([np.broadcast_to(r, shape) for r in pose.root.values()], axis=0) if pose.root
                     else np.ones(shape))
             out = prog.outputs(geom, pose, prog.motion(geom, pose, 1))
-            rise = out[f"point:{self.task.point_name}.y'"]
             length = None
-            if self.slider:
+            if self.slider and not self.guided:
                 a, b = self.ends
                 d = (out[f"point:{a}.x"] - out[f"point:{b}.x"]) + 1j * (out[f"point:{a}.y"] - out[f"point:{b}.y"])
                 v = (out[f"point:{a}.x'"] - out[f"point:{b}.x'"]) + 1j * (out[f"point:{a}.y'"] - out[f"point:{b}.y'"])
                 length = np.abs(d)
                 rate = (d.real * v.real + d.imag * v.imag) / length
-            if self.task.quantity == "leverage":
+            if task.quantity == "leverage":
+                rise = out[f"point:{task.point_name}.y'"]
                 ratio = -rate / rise                           # the motion ratio: shortening per rise
                 value = 1.0 / ratio
-                fit = ratio * self.wanted - 1.0
-            elif self.task.quantity == "length":
+                fit = self._bounded(ratio * self.wanted - 1.0)
+            elif task.quantity == "length":
                 value = length
-                fit = (length - self.wanted) / max(np.ptp(self.wanted), 1e-3 * self.task.size)
+                fit = self._bounded((length - self.wanted) / max(np.nanmax(self.wanted) - np.nanmin(self.wanted),
+                                                                 1e-3 * task.size))
+            elif task.quantity == "ratio":
+                speed = np.hypot(out[f"point:{task.point_name}.x'"], out[f"point:{task.point_name}.y'"])
+                value = np.abs(rate) / speed                   # virtual work: force at the point per unit force
+                fit = self._bounded(value / self.wanted - 1.0)
+            elif task.quantity == "slide":
+                s = out[f"slide:{self.slider}"]
+                value = s - s[:, :1]
+                fit = self._bounded((value - self.wanted) / max(np.nanmax(self.wanted) - np.nanmin(self.wanted),
+                                                                1e-3 * task.size))
             else:
                 a = out[f"angle:{self.of_link}"]
                 value = np.degrees(a - a[:, :1])
-                fit = (value - self.wanted) / max(np.ptp(self.wanted), 1.0)
+                fit = self._bounded((value - self.wanted) / max(np.nanmax(self.wanted) - np.nanmin(self.wanted), 1.0))
         return {"ok": ok, "root": np.where(ok, root, 0.0), "value": value, "fit": fit, "length": length}
+
+    def _bounded(self, error: np.ndarray) -> np.ndarray:
+        """The error where the wanted curve counts (0 elsewhere); for a bound, only on the wrong side of it."""
+        if self.task.bound == "at least":
+            error = np.minimum(error, 0.0) if self.task.quantity != "leverage" else np.maximum(error, 0.0)
+        elif self.task.bound == "at most":
+            error = np.maximum(error, 0.0) if self.task.quantity != "leverage" else np.minimum(error, 0.0)
+        return np.where(self.active, error, 0.0)
 
     def residuals(self, rows: np.ndarray, e: dict | None = None) -> np.ndarray:
         """Least-squares residuals of each layout: the curve error and the penalties, ``(M, r)`` (``e``: the
@@ -307,6 +430,10 @@ class Model:
             lo, hi = lo + MARGIN * (hi - lo), hi - MARGIN * (hi - lo)
             ln = np.where(e["ok"], e["length"], lo)
             parts += [PENALTY * np.maximum(0.0, lo - ln) / lo, PENALTY * np.maximum(0.0, ln - hi) / hi]
+        if self.task.least is not None:
+            stroke = np.arange(self.ts.size) < self.task.stroke_count
+            low = np.where(e["ok"] & stroke, np.maximum(0.0, 1.0 - e["value"] / self.task.least), 0.0)
+            parts.append(PENALTY * np.where(np.isfinite(low), low, 1.0))
         parts.append(PENALTY * self._short(rows))
         return np.hstack(parts)
 
@@ -330,9 +457,13 @@ class Model:
         for j in data["joints"]:
             if j["name"] in coords:
                 j["at"] = list(coords[j["name"]])
-            if j["name"] == self.slider:
-                p, q = coords[self.ends[0]], coords[self.ends[1]]
+            if j["name"] == self.slider and self.guided:
+                q = coords[self.ends[0]]
                 j["at"], j["origin"] = list(q), list(q)
+                j["direction"] = math.degrees(self.task.guide)
+            elif j["name"] == self.slider:  # the slide runs from the first pivot: it is the eye-to-eye length
+                p, q = coords[self.ends[0]], coords[self.ends[1]]
+                j["at"], j["origin"] = list(q), list(p)
                 j["direction"] = math.degrees(math.atan2(q[1] - p[1], q[0] - p[0]))
         return Mechanism.from_dict(data)
 
@@ -433,29 +564,34 @@ def _verify(model: Model, cid: int, row: np.ndarray, name: str) -> Dimensioned:
     mech = model.mechanism(row, name)
     e = model.evaluate(row)
     defects = []
-    outputs = [f"point:{task.point_name}"] + ([f"point:{x}" for x in model.ends] if model.slider
-                                              else [f"angle:{model.of_link}"])
+    outputs = [f"point:{task.point_name}"] if task.point is not None else []
+    outputs += ([f"point:{x}" for x in model.ends] if model.slider else [f"angle:{model.of_link}"])
     q0 = Kinematics(mech).drawn_inputs()[model.fixed]
-    sw = sweep(mech, q0, q0 + task.rotation, abs(task.rotation) / (4 * task.samples), outputs=outputs)
+    travel = float(model.ts[-1])                          # the stroke and its overtravel
+    sw = sweep(mech, q0, q0 + travel, abs(travel) / (4 * model.ts.size), outputs=outputs)
     if sw.status != Status.COMPLETE or sw.dead_points:
         where = f" at {math.degrees(sw.dead_points[0].input - q0):.2f}° of the stroke" if sw.dead_points else ""
-        defects.append(f"dead point: the mechanism does not move through the whole stroke{where}")
+        defects.append("dead point: the mechanism does not move through the whole stroke"
+                       + (" and its overtravel" if task.overtravel else "") + where)
     ok = bool(e["ok"].all())
     if not ok:
-        defects.append("does not assemble over the whole stroke")
+        defects.append("does not assemble over the whole stroke" + (" and its overtravel" if task.overtravel else ""))
     value = e["value"][0]
-    with np.errstate(all="ignore"):
-        rel = np.abs(value - model.wanted) / (np.abs(model.wanted) if task.quantity == "leverage"
-                                             else max(np.ptp(model.wanted), 1e-300))
-    error = float(np.max(rel)) if ok else math.inf
-    rms = float(np.sqrt(np.mean(rel ** 2))) if ok else math.inf
+    rel = relative_error(task, value, model.wanted)
+    error = float(np.max(rel[model.active])) if ok else math.inf
+    rms = float(np.sqrt(np.mean(rel[model.active] ** 2))) if ok else math.inf
     if not error <= task.tolerance:
-        defects.append(f"curve error {100 * error:.3g}% above the tolerance {100 * task.tolerance:.3g}%")
+        what = "curve error" if task.bound == "equal" else f"shortfall from the bound ({task.bound})"
+        defects.append(f"{what} {100 * error:.3g}% above the tolerance {100 * task.tolerance:.3g}%")
+    if task.least is not None and ok:
+        smallest = float(np.min(value[:task.stroke_count]))
+        if not smallest >= task.least * (1 - 1e-9):
+            defects.append(f"{task.quantity} falls to {smallest:.3g} over the stroke, below the least {task.least:g}")
     mu = math.degrees(math.asin(min(1.0, float(np.min(e["root"]))))) if ok else 0.0
     if mu < math.degrees(task.min_transmission) - 1e-6:
         defects.append(f"transmission angle {mu:.1f}° below {math.degrees(task.min_transmission):.0f}°")
     length = None
-    if model.slider and ok:
+    if e["length"] is not None and ok:
         length = (float(np.min(e["length"])), float(np.max(e["length"])))
         if task.length_range and not (task.length_range[0] - 1e-9 <= length[0] and length[1] <= task.length_range[1] + 1e-9):
             defects.append(f"length {length[0]:.4g} to {length[1]:.4g} outside {task.length_range[0]:.4g} to "
@@ -463,3 +599,27 @@ def _verify(model: Model, cid: int, row: np.ndarray, name: str) -> Dimensioned:
     notes = (f"sweep: {sw.inputs.size} steps, largest closure residual {float(np.max(sw.residuals)):.1e}",)
     return Dimensioned(cid, mech, tuple(map(float, model.xs)), tuple(map(float, value)),
                        tuple(map(float, model.wanted)), error, rms, mu, length, tuple(defects), notes)
+
+
+def relative_error(task: CurveTask, value, wanted) -> np.ndarray:
+    """The relative error of a curve at each sample: against the wanted value (a ratio) or the wanted curve's
+    range (a length, angle or slide); for a bound, only the shortfall (0 where the bound holds); NaN where the
+    wanted curve does not count.
+
+    >>> t = CurveTask("t", "crank", (0.0, 0.0), (1.0, 0.0), 1.0, "ratio", "c", lambda x: 2.0 + 0 * x,
+    ...               box=((0.0, 1.0), (0.0, 1.0)), bound="at least")
+    >>> relative_error(t, np.array([1.0, 3.0]), np.array([2.0, 2.0])).tolist()
+    [0.5, 0.0]
+    """
+    value, wanted = np.asarray(value, float), np.asarray(wanted, float)
+    with np.errstate(all="ignore"):
+        if task.quantity in ("leverage", "ratio"):
+            signed = (value - wanted) / np.abs(wanted)
+        else:
+            span = np.nanmax(wanted) - np.nanmin(wanted) if np.isfinite(wanted).any() else 0.0
+            signed = (value - wanted) / max(span, 1e-3 * task.size if task.quantity != "angle" else 1.0)
+    if task.bound == "at least":
+        return np.where(np.isnan(wanted), np.nan, np.maximum(-signed, 0.0))
+    if task.bound == "at most":
+        return np.where(np.isnan(wanted), np.nan, np.maximum(signed, 0.0))
+    return np.abs(signed)

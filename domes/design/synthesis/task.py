@@ -27,10 +27,12 @@ which one is wrong. Kinds:
   that: least squares. Five points with ``a0`` and ``b0`` is Example 5.
 - ``curve``: any labelled candidate (those of ``scene``, or the ids in
   ``candidates``) dimensioned by least squares: the ``input`` (``role``,
-  ``pivot``, ``rotation_deg``) turns a link carrying ``point`` (``name``,
-  ``at``); ``wanted`` (``quantity`` leverage, length or angle, ``of`` a
-  role, ``function`` of x, ``samples``, ``tolerance``); the ``box`` the
-  joints are placed in; ``limits`` (``min_transmission_deg``, ``length``).
+  ``pivot``, ``rotation_deg``, ``overtravel_deg``, ``guide_deg`` of a
+  slide) turns a link carrying ``point`` (``name``, ``at``); ``wanted``
+  (``quantity`` leverage, length, angle, ratio or slide, ``of`` a role or
+  two, ``function`` of x, ``bound``, ``over`` or ``over_last``, ``least``, ``samples``,
+  ``tolerance``); the ``box`` the joints are placed in; ``limits``
+  (``min_transmission_deg``, ``length``).
   See :mod:`~domes.design.synthesis.candidate`.
 
 >>> t = task_from_dict({"kind": "function", "function": "log10(x)", "range": [1, 10], "input_deg": 60,
@@ -237,17 +239,24 @@ def _section(data, key, where) -> dict:
 
 def _curve(data: dict, where: str, name: str) -> CurveTask:
     """A least-squares task for labelled candidates (kind ``curve``)."""
-    inp, point, wanted = (_section(data, k, where) for k in ("input", "point", "wanted"))
+    inp, wanted = (_section(data, k, where) for k in ("input", "wanted"))
+    point = data.get("point", {})
+    if not isinstance(point, dict):
+        raise InputError(f"{where}: 'point' must be an object with 'name' and 'at', got {point!r}")
     limits = data.get("limits", {})
     if not isinstance(limits, dict):
         raise InputError(f"{where}: 'limits' must be an object")
     box = data.get("box")
     if not isinstance(box, list) or len(box) != 2:
         raise InputError(f"{where}: 'box' must be [[xmin, xmax], [ymin, ymax]], the space the joints are placed in")
-    for key, value in (("input role", inp.get("role")), ("wanted of", wanted.get("of")),
-                       ("wanted quantity", wanted.get("quantity"))):
+    of = wanted.get("of")
+    roles = of if isinstance(of, list) else [of]
+    for key, value in [("input role", inp.get("role")), ("wanted quantity", wanted.get("quantity"))] + \
+            [("wanted of", r) for r in roles]:
         if not isinstance(value, str) or not value:
             raise InputError(f"{where}: {key} must be a name, got {value!r}")
+    if isinstance(of, list) and len(of) != 2:
+        raise InputError(f"{where}: wanted 'of' is a role, or two roles [cylinder, piston], got {of!r}")
     samples = wanted.get("samples", 25)
     if isinstance(samples, bool) or not isinstance(samples, int):
         raise InputError(f"{where}: wanted samples must be a whole number, got {samples!r}")
@@ -255,12 +264,32 @@ def _curve(data: dict, where: str, name: str) -> CurveTask:
     scene = data.get("scene")
     if scene is not None and not isinstance(scene, str):
         raise InputError(f"{where}: 'scene' must be a scene name or file, got {scene!r}")
+    bound = wanted.get("bound", "equal")
+    if not isinstance(bound, str):
+        raise InputError(f"{where}: wanted bound must be 'equal', 'at least' or 'at most', got {bound!r}")
+    over = wanted.get("over")
+    rotation = _number(inp, "rotation_deg", f"{where}: input")
+    if "over_last" in wanted:  # the last stretch of the stroke, in x's unit (degrees of the input's rotation)
+        if over is not None or wanted.get("quantity") == "leverage":
+            raise InputError(f"{where}: wanted 'over_last' (the last degrees of the stroke) replaces 'over' and is "
+                             "not taken for a leverage")
+        last = _number(wanted, "over_last", f"{where}: wanted")
+        if not 0 < last <= abs(rotation):
+            raise InputError(f"{where}: wanted 'over_last' must be within the stroke of {abs(rotation):g}°")
+        over = sorted([rotation, rotation - math.copysign(last, rotation)])
+    guide = inp.get("guide_deg", wanted.get("guide_deg"))
     return CurveTask(
         name, inp["role"], _pair(inp.get("pivot", [0, 0]), f"{where}: input pivot"),
-        _pair(point.get("at"), f"{where}: point at"), math.radians(_number(inp, "rotation_deg", f"{where}: input")),
-        wanted["quantity"], wanted["of"], expression(wanted.get("function", ""), f"{where}: wanted function"),
+        None if "at" not in point else _pair(point.get("at"), f"{where}: point at"),
+        math.radians(rotation),
+        wanted["quantity"], tuple(of) if isinstance(of, list) else of,
+        expression(wanted.get("function", ""), f"{where}: wanted function"),
         (_pair(box[0], f"{where}: box x"), _pair(box[1], f"{where}: box y")), samples,
         str(point.get("name", "P")),
         math.radians(_number(limits, "min_transmission_deg", f"{where}: limits", 30.0)),
         None if length is None else _pair(length, f"{where}: limits length"),
-        _number(wanted, "tolerance", f"{where}: wanted", 0.02), scene)
+        _number(wanted, "tolerance", f"{where}: wanted", 0.02), scene,
+        bound=bound, over=None if over is None else _pair(over, f"{where}: wanted over"),
+        overtravel=math.radians(_number(inp, "overtravel_deg", f"{where}: input", 0.0)),
+        guide=None if guide is None else math.radians(_number({"g": guide}, "g", f"{where}: guide_deg")),
+        least=None if "least" not in wanted else _number(wanted, "least", f"{where}: wanted"))

@@ -166,12 +166,14 @@ class Program:
         """The drawn-pose data: the mechanism's own, or with ``coordinates`` (name -> ``(M, 2)``) replaced.
 
         ``directions`` (P joint -> ``(M,)`` angles, rad) replaces slide
-        directions. Names not given keep the mechanism's values.
+        directions, and ``coordinates["origin:JOINT"]`` a slide's origin.
+        Names not given keep the mechanism's values.
         """
         mech = self.mech
         count = None
         at = {j.name: _c(j.at) for j in mech.joints}
         at.update({p.name: _c(p.at) for p in mech.points})
+        at.update({f"origin:{j.name}": _c(j.slide_origin) for j in mech.joints if j.kind == "P"})
         for name, value in (coordinates or {}).items():
             if name not in at:
                 raise InputError(f"coordinates: {name!r} is not a joint or point of {mech.name}; "
@@ -193,7 +195,7 @@ class Program:
                 count = _count(count, angle.shape[0], j.name)
                 angle = angle[:, None]
             direction[j.name] = np.exp(1j * angle) if isinstance(angle, np.ndarray) else complex(math.cos(angle), math.sin(angle))
-            s0[j.name] = _dot(at[j.name] - _c(j.slide_origin), direction[j.name])
+            s0[j.name] = _dot(at[j.name] - at[f"origin:{j.name}"], direction[j.name])
         for name in directions or {}:
             if name not in direction:
                 raise InputError(f"directions: {name!r} is not a P joint of {mech.name}")
