@@ -1,9 +1,12 @@
 """Files a user hands to DOMES-py, and files it writes: one rule, nothing lost (issue 11)."""
 
 import io
+import json
 import os
 import stat
 from pathlib import Path
+
+import pytest
 
 from domes.cli import main
 
@@ -44,6 +47,17 @@ def test_outputs_in_a_missing_folder_are_refused_the_same_way(tmp_path, capsys, 
     assert not (tmp_path / "no").exists()
 
 
+def test_outputs_under_a_file_say_the_parent_is_a_file(tmp_path, capsys):
+    # issue 25, item 5: README.md/x.html was refused as "folder README.md does not exist"
+    notes = tmp_path / "README.md"
+    notes.write_text("mine\n")
+    for words in (["draw", "ErOg", "-o", str(notes / "x.html")], ["kb", "build", "--db", str(notes / "deep" / "kb.db")]):
+        assert main(words) == 2, words
+        err = capsys.readouterr().err
+        assert f"{notes} is a file, not a folder" in err and "does not exist" not in err, words
+    assert notes.read_text() == "mine\n"
+
+
 def test_drawings_get_the_permissions_of_the_umask(tmp_path):
     old = os.umask(0o022)
     try:
@@ -59,3 +73,39 @@ def test_end_of_input_before_any_answer_leaves_no_session_file(tmp_path, monkeyp
     assert main(["design", "--db", str(ROOT / "casebase.db"), "--dry-run"]) == 1
     assert "end of input before any answer; nothing saved" in capsys.readouterr().err
     assert not (tmp_path / ".domes-design-session.json").exists()
+
+
+def test_json_nested_too_deep_or_with_an_endless_integer_is_named_by_every_reader(tmp_path, capsys):
+    # issue 25, item 18: JSON nested 1,000 deep raised RecursionError, an integer of 5,000 digits a ValueError
+    from domes.errors import InputError
+    from domes.io.files import read_json
+
+    deep, endless = tmp_path / "deep.json", tmp_path / "endless.json"
+    deep.write_text("[" * 1000 + "]" * 1000)
+    endless.write_text('{"links": [1,\n 1' + "0" * 5000 + "]}")
+    with pytest.raises(InputError, match="deep.json: line 1, column 65: lists and objects nested deeper than 64"):
+        read_json(deep)
+    with pytest.raises(InputError, match="endless.json: line 2, column 2: an integer of more than 4,300 digits"):
+        read_json(endless)
+    for command in (["kinematics"], ["tolerance", "--output", "angle:x", "--relative", "1e-4"], ["dynamics"], ["draw"], ["synthesize"],
+                    ["curves", "trace"], ["curves", "describe"], ["curves", "match"]):
+        for path, message in ((deep, "nested deeper than 64 levels"), (endless, "more than 4,300 digits")):
+            words = [*command[:2], str(path), *command[2:]] if command[0] == "curves" else [command[0], str(path),
+                                                                                             *command[1:]]
+            assert main(words) == 2, words
+            assert message in capsys.readouterr().err, words
+
+
+def test_a_long_value_is_cut_short_in_a_message(tmp_path, capsys):
+    # issue 25, item 18: messages echoed whole values, up to 200,000 characters; a name longer than the system
+    # takes raised OSError
+    assert main(["regenerate", "x" * 300]) == 2
+    err = capsys.readouterr().err
+    assert "no scene 'xxxx" in err and "(302 characters)" in err and len(err) < 400
+    path = tmp_path / "long.json"
+    data = json.loads((ROOT / "examples/mechanisms/four-bar.json").read_text())
+    data["ground"] = "g" * 200_000
+    path.write_text(json.dumps(data))
+    assert main(["kinematics", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "ground:" in err and max(len(line) for line in err.splitlines()) <= 450

@@ -119,7 +119,8 @@ def run_chains(args: argparse.Namespace) -> int:
         if args.format != "text":
             raise InputError(f"--out writes the atlas as graph6 files to {args.out}; --format {args.format} is for "
                              "standard output, leave one of them out")
-        job = JobFolder(args.out, {"kind": "chain atlas", "isomorphism": args.isomorphism})
+        job = JobFolder(args.out, {"kind": "chain atlas", "isomorphism": args.isomorphism},
+                        say=lambda text: print(f"domes chains: {text}", file=sys.stderr, flush=True))
     if links >= LARGE_ATLAS_LINKS:
         _confirm_large(links, args.dof, args.include_fractionated, args.yes,
                        0 if args.scheduler or os.environ.get(SCHEDULER_VARIABLE) else args.workers or 1)

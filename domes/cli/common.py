@@ -17,17 +17,24 @@ import sys
 from domes.errors import InputError
 from domes.execution import SCHEDULER_VARIABLE
 from domes.io.files import write_atomic
-from domes.results import Progress
+from domes.results import Progress, Ticker
 from domes.store.casebase import DB_ENV
 
 
-def progress_printer(enabled: bool | None = None) -> Progress | None:
-    """A progress callback printing ``... message`` on stderr; by default only when stderr is a terminal."""
+def progress_printer(enabled: bool | None = None, every: float = 0.0) -> Progress | None:
+    """A progress callback printing ``... message`` on stderr; by default only when stderr is a terminal.
+
+    ``every``: at most one line per that many seconds (the others are dropped), for a log rather than a terminal.
+    """
     if enabled is None:
         enabled = sys.stderr.isatty()
     if not enabled:
         return None
-    return lambda message: print(f"... {message}", file=sys.stderr, flush=True)
+    show = lambda message: print(f"... {message}", file=sys.stderr, flush=True)          # noqa: E731
+    if every <= 0:
+        return show
+    clock = Ticker(show, every)
+    return lambda message: clock.tick(lambda: message)
 
 
 #: The help text of every --db option.

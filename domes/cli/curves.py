@@ -21,11 +21,12 @@ from domes.errors import InputError
 from domes.execution import InProcess, executor
 from domes.io.atlas import atlas_path, default_atlas, load_atlas, save_atlas
 from domes.io.curves import read_path, read_points
-from domes.io.files import check_target
+from domes.io.files import check_target, read_json
 from domes.io.mechanisms import load_mechanism, save_mechanism
 from domes.motion.coupler.atlas import SIZES, Atlas, OpenAtlas, build, build_windows
 from domes.motion.coupler.curves import trace
 from domes.motion.coupler.designspace import classify
+from domes.motion.coupler.fit import check_wanted
 from domes.motion.coupler.fourbar import four_bar
 from domes.motion.coupler.fourier import describe
 from domes.motion.coupler.fuzzy import parameters
@@ -224,10 +225,9 @@ def _is_mechanism_file(path) -> bool:
     if not str(path).lower().endswith(".json"):
         return False
     try:
-        with open(path, encoding="utf-8") as f:
-            doc = json.load(f)
-    except (OSError, ValueError):
-        return False
+        doc = read_json(path)
+    except InputError:
+        return False  # read_points says what is wrong with it
     return isinstance(doc, dict) and "joints" in doc
 
 
@@ -268,6 +268,10 @@ def run_match(args) -> int:
             check_target(path)
     progress = progress_printer(args.progress)
     wanted, closed = read_path(args.file)
+    try:
+        check_wanted(wanted)                # before the atlas, which may have to be built first
+    except InputError as exc:
+        raise InputError(f"{args.file}: {exc}") from None
     kind = "open" if args.open or closed is False else "closed"
     if args.atlas in SIZES:
         table = default_atlas(args.atlas, progress, kind)
@@ -284,7 +288,10 @@ def run_match(args) -> int:
                "refine_s": result.refine_seconds, "size": result.size, "fits": [
                    {"success": f.success, "lengths": list(f.lengths), "coupler": list(f.coupler),
                     "before": {"max": f.before[0], "rms": f.before[1]}, "after": {"max": f.after[0], "rms": f.after[1]},
-                    "mechanism": f.mechanism.to_dict() if f.mechanism else None} for f in result.fits]}
+                    "mechanism": f.mechanism.to_dict() if f.mechanism else None,
+                    "merged": [{"relation": why, "lengths": list(g.lengths), "coupler": list(g.coupler),
+                                "after": {"max": g.after[0], "rms": g.after[1]}, "pivots": _pivots(g)}
+                               for g, why in _merged(result, k)]} for k, f in enumerate(result.fits)]}
         write_output(json.dumps(doc, indent=1) + "\n", args.output)
     elif args.format == "html":
         cards = []
@@ -294,14 +301,36 @@ def run_match(args) -> int:
             curve = trace(f.mechanism, "P", 360, extra=joint_names(f.mechanism))
             circuit = min(curve.circuits, key=lambda c: _nearest(c.points, wanted))
             cards.append(Card(str(k), f"match {k}: {'fits' if f.success else 'nearest'}",
-                              moving_svg(f.mechanism, circuit, wanted), _fit_props(f)))
+                              moving_svg(f.mechanism, circuit, wanted),
+                              _fit_props(f) + tuple(("merged", _merged_text(g, why))
+                                                    for g, why in _merged(result, k - 1))))
         write_output(curves_html(cards, "Four-bars for a wanted path", result.message), args.output)
     else:
         out = [result.message]
         for k, f in enumerate(result.fits, 1):
             out.append(f"{k}. " + "; ".join(f"{name} {value}" for name, value in _fit_props(f)))
+            out += [f"   merged: {_merged_text(g, why)}" for g, why in _merged(result, k - 1)]
         write_output("\n".join(out) + "\n", args.output)
     return 0 if result.success else 1
+
+
+def _merged(result, k: int):
+    """The fits merged into fit ``k`` (from 0): ``(fit, relation)``."""
+    return result.merged[k] if k < len(result.merged) else ()
+
+
+def _pivots(f):
+    if f.mechanism is None:
+        return None
+    return [list(f.mechanism.joint("A").at), list(f.mechanism.joint("D").at)]
+
+
+def _merged_text(g, why: str) -> str:
+    a, b, c, d = g.lengths
+    where = "" if g.mechanism is None else (" frame pivots A, D " + ", ".join(f"({x:.6g}, {y:.6g})"
+                                                                             for x, y in _pivots(g)) + ";")
+    return (f"{why}:{where} crank, coupler, rocker, frame {a:.6g}, {b:.6g}, {c:.6g}, {d:.6g}; largest distance "
+            f"{g.after[0]:.3g}")
 
 
 def _nearest(points, wanted):

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 
 import numpy as np
 
@@ -76,6 +77,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         doc = _mechanism(args)
     write_document(doc, args.format, html=_html, rows=_rows, text=_text)
+    if doc["kind"] == "scriber" and doc["status"] == "stopped":   # the contour leaves the scriber's reach
+        print(f"domes dynamics: stopped: {'; '.join(doc['problems'])}", file=sys.stderr)
+        return 1
     return 0
 
 
@@ -158,6 +162,7 @@ def _scriber(args) -> dict:
                "q2''": run.qdd[1], "Q1": run.Q[:, 0], "Q2": run.Q[:, 1], "kinetic energy": run.energy,
                "input power": run.power, "dE/dt": run.energy_rate, "balance": run.balance}
     return {"kind": "scriber", "file": args.file, "name": task.name, "message": run.message, "status": str(run.status),
+            "problems": list(run.problems),
             "x": "arc length s", "speed": speed, "kinetic": args.kinetic, "equations": args.equations,
             "max_imbalance": run.max_imbalance, "peak_power": run.peak_power, "work": run.work,
             "spreads": {k: list(v) for k, v in run.spreads().items()},
@@ -192,5 +197,5 @@ def _text(out, doc) -> None:
             out.write(f"# junction {j['index']} at s = {j['s']:.6g}: corner {j['corner_deg']:.4g}°, "
                       f"jump of q'' ({j['jump_qdd'][0]:.6g}, {j['jump_qdd'][1]:.6g}), "
                       f"of Q ({j['jump_Q'][0]:.6g}, {j['jump_Q'][1]:.6g})\n")
-        out.write(f"# work over the contour {doc['work']:.4g}\n")
+        out.write(f"# work over the {'points done' if doc['status'] == 'stopped' else 'contour'} {doc['work']:.4g}\n")
     out.write(f"# {doc['message']}\n")

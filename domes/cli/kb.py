@@ -102,7 +102,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     q = kb.add_parser("build", parents=[db], help="build the case base from the knowledge sources")
     q.add_argument("--from", dest="source", metavar="DIR", help=f"knowledge sources folder (default: ${KNOWLEDGE_ENV}, else the shipped knowledge)")
-    q.add_argument("--force", action="store_true", help="replace a file or database that is not a case base")
+    q.add_argument("--force", action="store_true", help="replace a file or database that is not a case base, or (not SQLite) one whose own cases and criteria the sources lack")
     q.set_defaults(func=run_build)
 
     q = kb.add_parser(
@@ -285,7 +285,7 @@ def run_undo(args: argparse.Namespace) -> int:
 
 
 def run_build(args: argparse.Namespace) -> int:
-    frames = build(args.source, args.db, force=args.force)
+    frames = build(args.source, args.db, force=args.force, say=print)
     with KnowledgeBase(args.db) as kb:
         cases = len(kb.problems())
     print(f"built the knowledge base: {len(frames)} criteria, {cases} solved problems")

@@ -120,6 +120,8 @@ def run(args: argparse.Namespace) -> int:
         start = stop = to_in(args.at) if args.at is not None else q
         step = 1.0
     sw = run_sweep(kin, start, stop, step, joint, progress=progress_printer(args.progress))
+    turned = (f"# input {joint}: {sw.turns:+,} whole turns taken off the values asked for (a revolute joint's pose "
+              f"repeats every turn)\n" if sw.turns else "")
     angle_cols = {c for c in sw.columns if c.startswith("angle:")}
 
     def shown(col, value):
@@ -140,7 +142,7 @@ def run(args: argparse.Namespace) -> int:
                "groups": [{"kind": g.kind, "links": list(g.links), "joints": list(g.joints), "equations": g.equations}
                           for g in kin.groups],
                "groups_solved": sw.groups_solved, "groups_total": sw.groups_total, "equations": sw.equations,
-               "status": sw.status, "reachable": [from_in(x) for x in sw.reachable],
+               "status": sw.status, "turns": sw.turns, "reachable": [from_in(x) for x in sw.reachable],
                "max_residual": sw.max_residual, "dead_points": dead, "steps": rows}
         json.dump(finite_json(doc), out, indent=1)
         out.write("\n")
@@ -152,10 +154,12 @@ def run(args: argparse.Namespace) -> int:
             writer.writerow([repr(r[h]) for h in header])
         for d in dead:
             print(f"# {d['kind']} at input {d['input']:.12g}: {d['message']}", file=sys.stderr)
+        sys.stderr.write(turned)
     else:
         unit = ("deg" if deg else "rad") if angular else "length"
         out.write(f"# {mech.name}: {len(kin.groups)} of {len(kin.structure.groups)} groups, {kin.equations} loop "
                   f"equations ({', '.join(g.kind for g in kin.groups)}); accuracy {acc.name}; method {args.method}\n")
+        out.write(turned)
         header = ["input"] + list(sw.columns) + ["residual", "condition"]
         out.write("  ".join(f"{h:>16s}" for h in header) + "\n")
         for r in rows:

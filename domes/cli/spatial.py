@@ -48,6 +48,8 @@ def run_spatial(args: argparse.Namespace) -> int:
         start = stop = to_in(args.at) if args.at is not None else 0.0
         step = None
     sw = spatial_sweep(mech, start, stop, step, args.outputs, args.order, joint, progress_printer(args.progress))
+    turned = (f"# input {joint}: {sw.turns:+,} whole turns taken off the values asked for (a revolute joint's pose "
+              f"repeats every turn)\n" if sw.turns else "")
     columns = list(sw.table)
 
     def shown(col, value):
@@ -61,6 +63,7 @@ def run_spatial(args: argparse.Namespace) -> int:
     if args.format == "json":
         doc = {"mechanism": mech.name, "file": args.file, "space": "spatial", "input": joint, "variable": variable,
                "angle_unit": args.angles, "order": args.order, "idle": mech.idle, "status": str(sw.status),
+               "turns": sw.turns,
                "max_residual": float(max(sw.residuals)), "limit": limit, "steps": rows}
         json.dump(finite_json(doc), out, indent=1)
         out.write("\n")
@@ -75,10 +78,12 @@ def run_spatial(args: argparse.Namespace) -> int:
             writer.writerow([repr(r[h]) for h in header])
         if limit:
             print(f"# {limit['kind']} at input {limit['input']:.12g}: {limit['message']}", file=sys.stderr)
+        sys.stderr.write(turned)
         return 0
     unit = ("deg" if deg else "rad") if angular else "length"
     out.write(f"# {mech.name}: spatial, {len(mech.links)} links, joints {' '.join(j.kind for j in mech.joints)}, "
               f"{mech.idle} idle spin{'s' if mech.idle != 1 else ''}; loop closure on rigid transforms\n")
+    out.write(turned)
     out.write("  ".join(f"{h:>16s}" for h in header) + "\n")
     for r in rows:
         out.write("  ".join(f"{r[h]:16.10g}" for h in header) + "\n")

@@ -14,17 +14,22 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 
 from domes.cli.common import finite_json, parallel_options, progress_printer, write_output
 from domes.design.synthesis import synthesize
 from domes.design.synthesis.candidate import Dimensioning
 from domes.design.synthesis.fourbars import SliderCrank
 from domes.design.synthesis.solve import generator_fourbar
+from domes.design.synthesis.task import min_transmission
 from domes.errors import InputError
 from domes.execution import InProcess, executor
 from domes.io.files import check_target
 from domes.io.tasks import load_spatial_task, load_task
 from domes.sketch.synthesis import synthesis_html
+
+#: Seconds between progress lines when stderr is not a terminal (a log): at most one line per interval.
+LOG_EVERY = 5.0
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -48,6 +53,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="text (default), json (each solution a mechanism file), or an html page of drawings")
     p.add_argument("--all", action="store_true", help="also list the rejected solutions (text)")
     p.add_argument("--output", "-o", help="write to this file (atomically) instead of standard output")
+    p.add_argument("--min-transmission", type=float, metavar="DEG", default=None,
+                   help="warn of a usable linkage whose smallest transmission angle is below DEG and rank it after "
+                   "the others (default: the task's min_transmission_deg, else 20); for a curve task, the limit "
+                   "its layouts are fitted to and verified against")
+    p.add_argument("--quiet", "-q", action="store_true",
+                   help="no progress lines on stderr (shown by default: on a terminal as the search goes, "
+                   "elsewhere one every few seconds)")
     parallel_options(p, "dimension a curve task's candidates")
     p.set_defaults(func=run)
 
@@ -59,9 +71,12 @@ def run(args) -> int:
     if spatial is not None:
         return _spatial(args, spatial)
     task = load_task(args.task)
+    if args.min_transmission is not None:
+        min_transmission(args.min_transmission, "--min-transmission")
     with executor(args.workers, args.scheduler) as run_on:
-        result = synthesize(task, args.method, args.seeds, progress=progress_printer(),
-                            executor=None if isinstance(run_on, InProcess) else run_on)
+        result = synthesize(task, args.method, args.seeds, progress=_progress(args),
+                            executor=None if isinstance(run_on, InProcess) else run_on,
+                            min_transmission_deg=args.min_transmission)
     if args.format == "html":
         text = synthesis_html(result, task)
     elif isinstance(result, Dimensioning):
@@ -72,8 +87,16 @@ def run(args) -> int:
     return 0 if result.success else 1
 
 
+def _progress(args):
+    """Progress on stderr unless ``--quiet``: as it comes on a terminal, else a line every few seconds."""
+    if args.quiet:
+        return None
+    return progress_printer(True, every=0.0 if sys.stderr.isatty() else LOG_EVERY)
+
+
 def _solution_dict(s, name):
     out = {"mechanism": s.fourbar.mechanism(name).to_dict(), "usable": s.usable, "defects": list(s.defects),
+           "warnings": list(s.warnings),
            "lengths": s.fourbar.named_lengths(),
            "residuals": list(s.residuals), "grashof": s.checks.grashof, "crank_rotates": s.checks.crank_rotates,
            "min_transmission_deg": s.checks.min_transmission_deg,
@@ -96,6 +119,7 @@ def _generator_mechanism(g, name):
 def _json(result) -> str:
     data = {"task": result.task_name, "kind": result.kind, "status": str(result.status), "message": result.message,
             "roots": result.roots, "seconds": result.seconds, "notes": list(result.notes),
+            "min_transmission_deg": result.min_transmission_deg,
             "solutions": [_solution_dict(s, f"{result.task_name} solution {k}")
                           for k, s in enumerate(result.solutions, 1)]}
     return json.dumps(data, indent=1) + "\n"
@@ -111,6 +135,8 @@ def _text(result, everything: bool) -> str:
     for k, s in enumerate(shown, 1):
         fb = s.fourbar
         state = "usable" if s.usable else "rejected: " + "; ".join(s.defects)
+        if s.usable and s.warnings:
+            state = "usable, with a warning"
         sizes = ", ".join(f"{name} {v:.6g}" for name, v in fb.named_lengths().items())
         lines.append(f"{k}. {state}; {sizes}; {s.checks.grashof}; smallest transmission angle "
                      f"{s.checks.min_transmission_deg:.1f}°")
@@ -118,6 +144,8 @@ def _text(result, everything: bool) -> str:
                  else f"D {_fmt(fb.b0)}")
         lines.append(f"   pivots A {_fmt(fb.a0)}, {fixed}; moving pivots B {_fmt(fb.a1)}, C {_fmt(fb.b1)}; "
                      f"largest residual {s.residual:.1e}")
+        for warning in s.warnings:
+            lines.append(f"   warning: {warning}")
         for note in s.notes:
             lines.append(f"   {note}")
         if s.respaced is not None:
@@ -169,7 +197,7 @@ def _spatial(args, task) -> int:
     if args.format == "html":
         raise InputError("--format html is for planar tasks; draw a spatial solution with domes draw (save it with "
                          "--format json)")
-    result = solve_spatial(task)
+    result = solve_spatial(task, progress=_progress(args))
     if args.format == "json":
         text = json.dumps(finite_json(result.to_dict()), indent=1) + "\n"
     else:

@@ -8,9 +8,9 @@
 >>> save_mechanism(four_bar(), path)
 >>> main(["tolerance", path, "--output", "angle:rocker", "--sweep", "0:90:90", "--relative", "1e-4",
 ...       "--samples", "20000"])    # doctest: +ELLIPSIS
-# crank-rocker four-bar: angle:rocker (deg) at 2 input values of A; 7 dimensions, normal (σ = tolerance/3)
-#   dimension                 nominal  ± tolerance   share  max |dy/dd|
-    coupler:B-C                   3.5      0.00035 ...
+# crank-rocker four-bar: angle:rocker (deg) at 2 input values of A (deg); 7 dimensions, normal (σ = tolerance/3)
+#   dimension                  unit      nominal  ± tolerance   share  max |dy/dd| (unit)
+    coupler:B-C          file units          3.5      0.00035 ...
 ...
 #   its σ over first order's: ...: the first-order estimate is enough (within 5% of Monte Carlo)
 0
@@ -170,7 +170,8 @@ def _document(args, tol, first, mc, scan, allocated, scale, joint, angular) -> d
            "input_unit": "deg" if angular else "length", "distribution": args.distribution,
            "dimensions": dims, "inputs": rows, "first_order": first.message}
     if mc is not None:
-        ratio = mc.std / first.std
+        with np.errstate(invalid="ignore", divide="ignore"):    # no spread at all: no ratio
+            ratio = mc.std / first.std
         ok = np.isfinite(ratio)
         doc["monte_carlo"] = {"samples": mc.samples, "seed": mc.seed, "batches": mc.batches, "failed": mc.failed,
                               "ratio_min": float(np.min(ratio[ok])) if ok.any() else None,
@@ -186,39 +187,53 @@ def _document(args, tol, first, mc, scan, allocated, scale, joint, angular) -> d
     return doc
 
 
+#: The unit of a number as the text shows it: angles in degrees, lengths in the mechanism file's unit.
+LABEL = {"deg": "deg", "length": "file units"}
+
+
 def _text(out, doc) -> None:
-    unit = doc["unit"]
+    unit, of_input = LABEL[doc["unit"]], LABEL[doc["input_unit"]]
     rows = doc["inputs"]
     out.write(f"# {doc['mechanism']}: {doc['output']} ({unit}) at {len({r['input'] for r in rows})} input values of "
-              f"{doc['input']}; {len(doc['dimensions'])} dimensions, {doc['distribution']} "
+              f"{doc['input']} ({of_input}); {len(doc['dimensions'])} dimensions, {doc['distribution']} "
               f"({'σ = tolerance/3' if doc['distribution'] == 'normal' else 'within ± tolerance'})\n")
     alloc = "allocate" in doc
-    out.write(f"#   {'dimension':<20s} {'nominal':>12s} {'± tolerance':>12s} {'share':>7s} {'max |dy/dd|':>12s}"
-              + (f" {'suggested ±':>12s}" if alloc else "") + "\n")
+    out.write((f"#   {'dimension':<20s} {'unit':>10s} {'nominal':>12s} {'± tolerance':>12s} {'share':>7s} "
+               f"{'max |dy/dd|':>12s} {'(unit)':<9s}" + (f" {'suggested ±':>12s}" if alloc else "")).rstrip() + "\n")
     for d in doc["dimensions"]:
-        out.write(f"    {d['name']:<20s} {d['nominal']:12.6g} {d['tolerance']:12.4g} {100 * d['share']:6.1f}% "
-                  f"{d['largest_derivative']:12.4g}" + (f" {d['allocated']:12.4g}" if alloc else "") + "\n")
+        own = LABEL["deg" if d["kind"] == "angle" else "length"]
+        slope = "/".join("deg" if u == "deg" else "unit" for u in (unit, own))   # unit: the file's length unit
+        out.write((f"    {d['name']:<20s} {own:>10s} {d['nominal']:12.6g} {d['tolerance']:12.4g} "
+                   f"{100 * d['share']:6.1f}% {d['largest_derivative']:12.4g} {slope:<9s}"
+                   + (f" {d['allocated']:12.4g}" if alloc else "")).rstrip() + "\n")
     mc = "monte_carlo" in doc
     header = ["input", "nominal", "worst case", "3σ first", *(["3σ Monte C.", "largest MC"] if mc else [])]
-    out.write("#" + " ".join(f"{h:>12s}" for h in header) + ("   column" if len({r['column'] for r in rows}) > 1 else "") + "\n")
+    columns = len({r['column'] for r in rows}) > 1
+    out.write("#" + " ".join(f"{h:>12s}" for h in header) + ("   column" if columns else "") + "\n")
+    out.write("#" + " ".join(f"{u:>12s}" for u in [of_input] + [unit] * (len(header) - 1)) + "\n")
     for r in rows:
         values = [r["input"], r["nominal"], r["worst_case"], r["three_sigma_first_order"]]
         if mc:
             values += [r["three_sigma_monte_carlo"], r["largest_monte_carlo"]]
-        out.write(" " + " ".join(f"{v:12.6g}" for v in values)
-                  + (f"   {r['column']}" if len({x['column'] for x in rows}) > 1 else "") + "\n")
+        out.write(" " + " ".join(f"{v:12.6g}" for v in values) + (f"   {r['column']}" if columns else "") + "\n")
     out.write(f"# first order: {doc['first_order']}\n")
     if mc:
         m = doc["monte_carlo"]
-        verdict = ("the first-order estimate is enough (within 5% of Monte Carlo)" if m["agree"]
-                   else "first order and Monte Carlo differ by more than 5%: trust Monte Carlo")
-        out.write(f"# Monte Carlo: {m['message']}\n#   its σ over first order's: {m['ratio_min']:.4f} .. "
-                  f"{m['ratio_max']:.4f}: {verdict}\n")
+        out.write(f"# Monte Carlo: {m['message']}\n")
+        if m["ratio_min"] is None:
+            out.write("#   its σ over first order's: not defined (no input where both are finite and first order's is "
+                      "not zero)\n")
+        else:
+            verdict = ("the first-order estimate is enough (within 5% of Monte Carlo)" if m["agree"]
+                       else "first order and Monte Carlo differ by more than 5%: trust Monte Carlo")
+            out.write(f"#   its σ over first order's: {m['ratio_min']:.4f} .. {m['ratio_max']:.4f}: {verdict}\n")
     if "scan" in doc:
         out.write(f"# tolerances scaled: {'scale':>6s} {'σ first':>12s} {'σ Monte C.':>12s} {'ratio':>8s} {'failed':>7s}\n")
+        out.write(f"#                    {'×':>6s} {unit:>12s} {unit:>12s} {'×':>8s} {'samples':>7s}\n")
         for s in doc["scan"]:
+            ratio = f"{s['ratio']:8.4f}" if s["ratio"] is not None and math.isfinite(s["ratio"]) else f"{'-':>8s}"
             out.write(f"#                    {s['scale']:6g} {s['first_order_std']:12.4g} {s['monte_carlo_std']:12.4g} "
-                      f"{s['ratio']:8.4f} {s['failed']:7d}" + ("" if s["agree"] else "  <- they part") + "\n")
+                      f"{ratio} {s['failed']:7d}" + ("" if s["agree"] else "  <- they part") + "\n")
     if alloc:
         out.write(f"# suggested tolerances keep the {doc['allocate']['meaning']} within {doc['allocate']['accuracy']:g} "
                   f"{unit}, each dimension taking an equal part at its worst input\n")

@@ -25,6 +25,9 @@ from domes.model.fields import check_keys, read_xy
 
 #: A junction whose tangent turns by more than this (rad) is a corner.
 CORNER = 1e-6
+#: The most segments a contour file may give: the forces are evaluated on both sides of every junction, so a run
+#: over a contour grows with its segments as well as its points.
+MAX_SEGMENTS = 10_000
 
 
 @dataclass(frozen=True)
@@ -133,6 +136,9 @@ class Contour:
         items = data["segments"]
         if not isinstance(items, list) or not items:
             raise InputError(f"{source}: contour.segments: expected a non-empty list of lines and arcs")
+        if len(items) > MAX_SEGMENTS:
+            raise InputError(f"{source}: contour.segments: {len(items):,} segments; a contour has at most "
+                             f"{MAX_SEGMENTS:,}")
         segments = []
         for k, item in enumerate(items):
             where = f"{source}: contour.segments[{k}]"
@@ -177,4 +183,4 @@ class Contour:
         return out
 
 
-__all__ = ["CORNER", "Contour", "Segment"]
+__all__ = ["CORNER", "MAX_SEGMENTS", "Contour", "Segment"]

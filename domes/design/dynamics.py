@@ -35,7 +35,8 @@ import numpy as np
 
 from domes.errors import InputError, NumericalError
 from domes.model.mechanism import CouplerPoint, Mechanism
-from domes.motion.planar.query import Kinematics
+from domes.motion.planar.query import SINGULAR_CONDITION, Kinematics, error_bounds
+from domes.motion.planar.query import accuracy as preset
 from domes.motion.planar.sweep import sweep
 from domes.results import Progress, Result, Status, Ticker
 
@@ -304,27 +305,29 @@ def inverse_dynamics(mech: Mechanism, start: float | None = None, stop: float | 
     length; inputs not given hold their drawn values), optionally with the
     ``time`` of each step. ``accuracy`` is the kinematics' knob.
     """
-    if motion is not None:
-        if start is not None or stop is not None:
-            raise InputError("give either a sweep (start, stop) or a motion, not both")
-        anchors, frames = _motion_frames(mech, motion, accuracy, progress)
-        t = None
-        if time is not None:
-            t = np.asarray(time, dtype=float)
-            if t.shape != frames.inputs.shape or not np.all(np.isfinite(t)):
-                raise InputError(f"time: expected {frames.inputs.size} finite numbers, one per step")
-        sw, swept, rate = None, None, None
-    else:
-        if start is None or stop is None:
-            raise InputError("give the sweep's start and stop (rad or length), or a motion")
-        mech, anchors, frames, sw, rate = _sweep_frames(mech, start, stop, step, joint, speed, acceleration,
-                                                        accuracy, progress)
-        swept = sw.joint
-        t = None
-        if rate.speed and rate.acceleration == 0:
-            t = (frames.inputs - frames.inputs[0]) / rate.speed
-    body = _Body(mech, frames, anchors)
-    solved = _solve(mech, body)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is found in the numbers and reported below
+        if motion is not None:
+            if start is not None or stop is not None:
+                raise InputError("give either a sweep (start, stop) or a motion, not both")
+            anchors, frames = _motion_frames(mech, motion, accuracy, progress)
+            t = None
+            if time is not None:
+                t = np.asarray(time, dtype=float)
+                if t.shape != frames.inputs.shape or not np.all(np.isfinite(t)):
+                    raise InputError(f"time: expected {frames.inputs.size} finite numbers, one per step")
+            sw, swept, rate = None, None, None
+        else:
+            if start is None or stop is None:
+                raise InputError("give the sweep's start and stop (rad or length), or a motion")
+            mech, anchors, frames, sw, rate = _sweep_frames(mech, start, stop, step, joint, speed, acceleration,
+                                                            accuracy, progress)
+            swept = sw.joint
+            t = None
+            if rate.speed and rate.acceleration == 0:
+                t = (frames.inputs - frames.inputs[0]) / rate.speed
+        body = _Body(mech, frames, anchors)
+        solved = _solve(mech, body)
+    _overflow(mech, frames, solved, swept, accuracy)
     status = sw.status if sw is not None else Status.COMPLETE
     notes = list(solved.pop("notes"))
     if sw is not None and sw.status is Status.STOPPED:
@@ -338,6 +341,27 @@ def inverse_dynamics(mech: Mechanism, start: float | None = None, stop: float | 
     return Dynamics(mech.name, swept, frames.inputs, t, residuals=frames.residuals, conditions=frames.conditions,
                     status=status, notes=tuple(notes), dead_points=tuple(sw.dead_points) if sw is not None else (),
                     angular=angular, **solved)
+
+
+def _overflow(mech: Mechanism, frames: _Frames, solved: dict, swept: str | None, accuracy) -> None:
+    """A NumericalError when numbers overflowed: a step whose derivatives the kinematics gave (not refused near a
+    singular point) but whose forces, energies or powers are not finite numbers."""
+    derivatives = preset(accuracy).derivatives
+    given = (frames.conditions <= SINGULAR_CONDITION) & (error_bounds(frames.conditions, 2)[2] <= derivatives)
+    numbers = [solved["input_power"], solved["load_power"], solved["kinetic_rate"], solved["kinetic"],
+               *solved["driving"].values(), *solved["moments"].values(),
+               *(v[:, i] for v in solved["reactions"].values() for i in (0, 1))]
+    lost = given & ~np.all(np.isfinite(np.stack(numbers)), axis=0)
+    if not np.any(lost):
+        return
+    k = int(np.flatnonzero(lost)[0])
+    q = float(frames.inputs[k])
+    where = (f"input {swept} = {math.degrees(q) if mech.joint(swept).kind == 'R' else q:.6g}"
+             f"{'°' if mech.joint(swept).kind == 'R' else ''}" if swept else f"motion step {k}")
+    raise NumericalError(f"{mech.name}: the forces overflow the floating-point range (about 1.8e308) at "
+                         f"{int(lost.sum()):,} of {lost.size:,} steps, the first at {where}: the speed, the "
+                         "acceleration or the loads are too large to compute with", kind="overflow",
+                         where={"input": q, "step": k})
 
 
 def _solve(mech: Mechanism, body: _Body) -> dict:

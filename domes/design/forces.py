@@ -97,11 +97,12 @@ class ForceRatio(Result):
         return text
 
 
-def _output_column(mech: Mechanism, output: str) -> tuple[str, str]:
+def _output_column(mech: Mechanism, output: str) -> tuple[str, str, str]:
+    """The output's kind, target and full name (``point:NAME``, also for a bare name as the kinematics take)."""
     out = parse_outputs(mech, [output])[0]
     if out.kind == "slide":
         raise InputError(f"force ratio: the output is a point (point:NAME) or a link (angle:LINK), not {output!r}")
-    return out.kind, out.target
+    return out.kind, out.target, out.name
 
 
 def force_ratio(mech: Mechanism, output: str, start: float, stop: float, step: float | None = None,
@@ -115,7 +116,7 @@ def force_ratio(mech: Mechanism, output: str, start: float, stop: float, step: f
     nearest toggle.
     """
     joint = _joint(mech, joint)
-    kind, target = _output_column(mech, output)
+    kind, target, output = _output_column(mech, output)
     if wanted is not None and not (math.isfinite(wanted) and wanted > 0):
         raise InputError(f"wanted force ratio must be a number > 0, got {wanted!r}")
     angular = mech.joint(joint).kind == "R"
@@ -240,7 +241,7 @@ def wheel_rate(mech: Mechanism, point: str, spring: str, start: float, stop: flo
     springs = {s.name: s for s in mech.masses.springs}
     if spring not in springs:
         raise InputError(f"{mech.name}: no spring {spring!r} in the file (springs: {sorted(springs) or 'none'})")
-    kind, target = _output_column(mech, point)
+    kind, target, point = _output_column(mech, point)
     if kind != "point":
         raise InputError(f"wheel rate: the wheel is a point (point:NAME), got {point!r}")
     s = springs[spring]

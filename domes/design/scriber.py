@@ -31,7 +31,7 @@ import numpy as np
 
 from domes.design.contour import CORNER, Contour
 from domes.errors import InputError
-from domes.model.fields import check_keys, read_number
+from domes.model.fields import LARGEST, check_keys, read_number
 from domes.model.masses import LinkMass, MassModel
 from domes.model.mechanism import Input, Joint, Mechanism
 from domes.results import Result, Status
@@ -229,11 +229,12 @@ class Scriber:
             value = data.get(key, list(default))
             if not isinstance(value, list) or len(value) != 2:
                 raise InputError(f"{source}: scriber.{key}: expected two numbers, got {value!r}")
-            pair[key] = tuple(read_number(x, f"{source}: scriber.{key}[{i}]") for i, x in enumerate(value))
+            pair[key] = tuple(read_number(x, f"{source}: scriber.{key}[{i}]", LARGEST) for i, x in enumerate(value))
         try:
-            return cls(read_number(data["H"], f"{source}: scriber.H"), read_number(data.get("sa", 0.0), f"{source}: scriber.sa"),
-                       read_number(data.get("sb", 0.0), f"{source}: scriber.sb"), pair["lengths"], pair["masses"],
-                       data.get("branch", 1))
+            return cls(read_number(data["H"], f"{source}: scriber.H", LARGEST),
+                       read_number(data.get("sa", 0.0), f"{source}: scriber.sa", LARGEST),
+                       read_number(data.get("sb", 0.0), f"{source}: scriber.sb", LARGEST), pair["lengths"],
+                       pair["masses"], data.get("branch", 1))
         except InputError as exc:
             raise InputError(f"{source}: {exc}") from None
 
@@ -307,7 +308,7 @@ class PathForces(Result):
 
     @property
     def work(self) -> float:
-        return float(np.sum(self.power) * self.contour.length / self.speed / self.s.size)
+        return float(np.sum(self.power) * 2 * self.s[0] / self.speed)   # midpoints: the spacing is twice the first
 
     def spreads(self) -> dict:
         """``{"line": (low, high), "arc": (low, high)}``: the range of both forces over each kind of segment."""
@@ -345,8 +346,10 @@ def follow(scriber: Scriber, contour: Contour, speed: float, points: int = 1000,
     """The scriber's driving forces along ``contour`` at constant ``speed`` (``points`` midpoints of equal length).
 
     Poses out of stroke (q_i ≥ l_i) or singular (|sin(θ2 − θ1)| < ``min_sine``)
-    stop the run (status STOPPED, named in the message with the arc length);
-    every junction reports its corner and the jumps of q̈ and Q (D-13).
+    stop the run: the result holds the points before them (status STOPPED)
+    and its message names the arc length and the point where the contour
+    leaves the scriber's reach; a contour that starts there is refused. Every
+    junction reached reports its corner and the jumps of q̈ and Q (D-13).
     """
     if not (math.isfinite(speed) and speed > 0):
         raise InputError(f"speed: must be a number > 0, got {speed!r}")
@@ -354,30 +357,40 @@ def follow(scriber: Scriber, contour: Contour, speed: float, points: int = 1000,
         raise InputError(f"points: an integer from 2 to {MAX_POINTS:,}, got {points!r}")
     _kinetic(kinetic)
     sample = contour.sample(points, speed)
+    problems = []
+    status = Status.COMPLETE
+    ends = np.cumsum([seg.length for seg in contour.segments])
+    at = np.concatenate([sample["s"], [0.0], ends])               # the samples, the start and every junction
+    ok = scriber.check(contour.at(at, speed)["P"], min_sine)
+    bad = ~ok["stroke"] | ok["singular"]
+    if np.any(bad):  # the run stops where the contour leaves what the scriber can make
+        end = float(np.min(at[bad]))
+        first = int(np.searchsorted(sample["s"], end))              # the samples before it
+        where, what = _leaves(scriber, contour, speed, min_sine, sample["s"][first - 1] if first else 0.0, end)
+        P = contour.at(np.array([where]), speed)["P"][0]
+        if first == 0:
+            raise InputError(f"{contour.name}: the contour leaves the scriber's reach at s = {where:.6g} (x = "
+                             f"{P.real:.6g}, y = {P.imag:.6g}): {what}, before its first sample point")
+        problems.append(f"the contour leaves the scriber's reach at s = {where:.6g} (x = {P.real:.6g}, "
+                        f"y = {P.imag:.6g}): {what}; stopped there, {first:,} of {points:,} points done")
+        status = Status.STOPPED
+        sample = {k: v[:first] for k, v in sample.items()}
     P, V, A = sample["P"], sample["V"], sample["A"]
     q, th, qd, qdd = scriber.rates(P, V, A)
-    problems = []
-    ok = scriber.check(P, min_sine)
-    status = Status.COMPLETE
-    for what, mask in (("out of stroke (q ≥ l or q ≤ 0)", ~ok["stroke"]), ("singular (P on the line AB)", ok["singular"])):
-        if np.any(mask):
-            k = int(np.flatnonzero(mask)[0])
-            problems.append(f"{int(mask.sum())} points {what}, the first at s = {sample['s'][k]:.6g} "
-                            f"(x = {P[k].real:.6g}, y = {P[k].imag:.6g})")
-            status = Status.STOPPED
     f = scriber.forces(q, th, qd, qdd, kinetic, equations)
     junctions = []
-    ends = np.cumsum([seg.length for seg in contour.segments])
     corners = contour.corners()
     for k, corner in enumerate(corners):
+        if status is Status.STOPPED and ends[k] >= where:
+            break
         a = contour.segments[k]
         b = contour.segments[(k + 1) % len(contour.segments)]
         if corner > CORNER:
             problems.append(f"junction {k + 1} (s = {ends[k]:.6g}) is a corner of {math.degrees(corner):.4g}°: "
                             "the velocities jump there, the forces are impulses")
         sides = []
-        for seg, where in ((a, "end"), (b, "start")):
-            local = seg.length if where == "end" else 0.0
+        for seg, side in ((a, "end"), (b, "start")):
+            local = seg.length if side == "end" else 0.0
             Pk, Vk, Ak = seg.at(np.array([local]), speed)
             qk, thk, qdk, qddk = scriber.rates(Pk, Vk, Ak)
             sides.append((qddk[:, 0], scriber.forces(qk, thk, qdk, qddk, kinetic, equations)["Q"][0]))
@@ -387,6 +400,23 @@ def follow(scriber: Scriber, contour: Contour, speed: float, points: int = 1000,
     return PathForces(scriber, contour, float(speed), kinetic, equations, sample["s"], sample["s"] / speed,
                       sample["segment"], P, q, qd, qdd, f["Q"], f["energy"], f["power"], f["energy_rate"],
                       tuple(junctions), status, tuple(problems), min_sine)
+
+
+def _leaves(scriber: Scriber, contour: Contour, speed: float, min_sine: float, good: float, bad: float):
+    """Where, between arc lengths ``good`` and ``bad``, the contour leaves the poses the scriber can make (located
+    by halving to 1e-12 of the contour's length), and what it meets there."""
+    def fails(s):
+        ok = scriber.check(contour.at(np.array([s]), speed)["P"], min_sine)
+        if not ok["stroke"][0]:
+            return "the stroke ends there (out of stroke beyond it: q ≥ l or q ≤ 0)"
+        return "P reaches the line AB there (a singular pose)" if ok["singular"][0] else ""
+
+    if fails(good):
+        return good, fails(good)
+    while bad - good > 1e-12 * contour.length:
+        mid = 0.5 * (good + bad)
+        good, bad = (good, mid) if fails(mid) else (mid, bad)
+    return bad, fails(bad)
 
 
 @dataclass(frozen=True)
@@ -407,7 +437,7 @@ class ScriberTask:
         scriber = Scriber.from_dict(data["scriber"], source) if isinstance(data["scriber"], dict) else None
         if scriber is None:
             raise InputError(f"{source}: scriber: expected a table with H (and sa, sb, lengths, masses, branch)")
-        speed = read_number(data["speed"], f"{source}: speed")
+        speed = read_number(data["speed"], f"{source}: speed", LARGEST)
         if speed <= 0:
             raise InputError(f"{source}: speed: must be > 0, got {speed!r}")
         points = data.get("points", 1000)

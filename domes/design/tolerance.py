@@ -61,6 +61,9 @@ MAX_INPUTS = 100_000
 #: Newton iterations and residual (relative to the mechanism's size) of the re-drawn pose.
 ITERATIONS = 30
 CLOSURE = 1e-12
+#: The largest tolerance taken, as a fraction: of a length (its own), of the size (positions, offsets), of a
+#: radian (angles). Beyond it a first-order estimate means nothing and the samples are other mechanisms.
+LARGEST = 0.1
 
 
 @dataclass(frozen=True)
@@ -99,6 +102,9 @@ class Tolerancing:
         for name, value in [("tolerance", tolerance), ("relative", relative)]:
             if value is not None and not (math.isfinite(value) and value > 0):
                 raise InputError(f"tolerance: {name} must be a positive number, got {value!r}")
+        if relative is not None and relative > LARGEST:
+            raise InputError(f"tolerance: relative must be at most {LARGEST:g} (a fraction of each length), got "
+                             f"{relative:g}: a first-order estimate means nothing there")
         dims = []
         for d in self._dims:
             if relative is not None:
@@ -114,6 +120,7 @@ class Tolerancing:
             if not (math.isfinite(value) and value >= 0):
                 raise InputError(f"tolerance: the tolerance of {name} must be a number >= 0, got {value!r}")
             dims[names[name]] = Dimension(name, dims[names[name]].kind, dims[names[name]].nominal, float(value))
+        _small_enough(dims, self.size)
         self.dimensions = tuple(dims)
         self.nominal = np.array([d.nominal for d in dims])
         self.bands = np.array([d.tolerance for d in dims])
@@ -351,6 +358,31 @@ class Tolerancing:
         """Each dimension's standard deviation under ``distribution``."""
         return self.bands / (3.0 if distribution == "normal" else math.sqrt(3.0))
 
+    def shown(self, value: float) -> str:
+        """An error of the output as shown to a reader, with its unit: degrees for an angle, else file units."""
+        if self.output.startswith("angle:"):
+            return f"{math.degrees(value):.3g} deg"
+        return f"{value:.3g} file units"
+
+
+def _small_enough(dims: list[Dimension], size: float) -> None:
+    """Refuse bands that are not small beside their dimensions (see :data:`LARGEST`), naming the worst one."""
+    def limit(d: Dimension) -> float:
+        return LARGEST * (1.0 if d.kind == "angle" else abs(d.nominal) if d.kind == "length" else size)
+
+    worst = max(dims, key=lambda d: d.tolerance / limit(d) if limit(d) > 0 else math.inf, default=None)
+    if worst is None or worst.tolerance <= limit(worst):
+        return
+    if worst.kind == "angle":
+        band, most, beside = f"{math.degrees(worst.tolerance):.4g}°", f"{math.degrees(limit(worst)):.4g}°", "a radian"
+    else:
+        band, most = f"{worst.tolerance:.4g}", f"{limit(worst):.4g}"
+        beside = (f"its length {abs(worst.nominal):.4g}" if worst.kind == "length"
+                  else f"the mechanism's size {size:.4g}")
+    raise InputError(f"tolerance: ±{band} on {worst.name} is not small beside {beside}: a first-order estimate means "
+                     f"nothing there and the samples would be other mechanisms; give at most ±{most} "
+                     f"({LARGEST:g} of it)")
+
 
 def _xy(z) -> np.ndarray:
     """``(M, 2)`` coordinates of complex numbers."""
@@ -384,7 +416,7 @@ class Sensitivity(Result):
     def message(self) -> str:
         t = self.tolerancing
         return (f"{t.mech.name}: {t.output} over {t.inputs.size} input values, {len(t.dimensions)} dimensions; "
-                f"first order: worst case {np.nanmax(self.worst):.3g}, 3σ {3 * np.nanmax(self.std):.3g}; "
+                f"first order: worst case {t.shown(np.nanmax(self.worst))}, 3σ {t.shown(3 * np.nanmax(self.std))}; "
                 f"largest share {self.ranking[0]} ({100 * np.max(self.share):.0f}%)")
 
     def allocate(self, accuracy: float) -> np.ndarray:
@@ -473,7 +505,7 @@ class MonteCarlo(Result):
                f"{self.batches} batches)"
         if not np.isfinite(self.std).any():
             return f"{head}: no sample assembled at every input value"
-        return (f"{head}: 3σ {3 * np.nanmax(self.std):.3g}, largest error {np.nanmax(self.largest):.3g}"
+        return (f"{head}: 3σ {t.shown(3 * np.nanmax(self.std))}, largest error {t.shown(np.nanmax(self.largest))}"
                 + (f"; {self.failed:,} samples did not assemble" if self.failed else ""))
 
 
@@ -557,5 +589,5 @@ def _scaled(tol: Tolerancing, scale: float) -> Tolerancing:
     return copy
 
 
-__all__ = ["BATCH", "DISTRIBUTIONS", "Comparison", "Dimension", "MonteCarlo", "Sensitivity", "Tolerancing",
-           "compare", "monte_carlo", "sensitivity"]
+__all__ = ["BATCH", "DISTRIBUTIONS", "LARGEST", "Comparison", "Dimension", "MonteCarlo", "Sensitivity",
+           "Tolerancing", "compare", "monte_carlo", "sensitivity"]

@@ -37,6 +37,8 @@ from domes.results import Progress, Ticker
 SCHEDULER_VARIABLE = "DOMES_SCHEDULER"
 #: A local cluster has at most this many workers per core of this machine.
 MAX_WORKERS_PER_CORE = 4
+#: Seconds to wait for a scheduler's answer before saying it does not answer.
+SCHEDULER_TIMEOUT = 10
 
 
 class InProcess:
@@ -133,6 +135,68 @@ def check_workers(workers: int | None = None, scheduler: str | None = None) -> s
     return scheduler
 
 
+def _connect(client_type, scheduler: str):
+    """A client of the scheduler at ``scheduler``, or a clear error within about twice
+    :data:`SCHEDULER_TIMEOUT` seconds (an address that accepts and never answers included)."""
+    import dask
+
+    limit = f"{SCHEDULER_TIMEOUT}s"
+    failure = _silent(scheduler, SCHEDULER_TIMEOUT)
+    if failure:
+        raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} (an address such as tcp://host:8786): "
+                         f"{failure}")
+    quiet = logging.getLogger("distributed")
+    level = quiet.level
+    quiet.setLevel(logging.CRITICAL)                         # Dask's own warnings about the failed attempts
+    try:
+        with dask.config.set({"distributed.comm.timeouts.connect": limit}):
+            try:
+                return client_type(scheduler, timeout=limit, set_as_default=False)
+            except TimeoutError:
+                failure = f"no answer as a Dask scheduler within {SCHEDULER_TIMEOUT} s"
+            except MemoryError:                              # a length read from another protocol's bytes
+                failure = "it answered, but not as a Dask scheduler does"
+            except Exception as exc:  # noqa: BLE001 - Dask raises OSError, ValueError, MemoryError and others
+                failure = str(exc)[:300] or type(exc).__name__
+        _collect_quietly()                                   # the half-made client's closing says nothing more
+    finally:
+        quiet.setLevel(level)
+    raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} (an address such as tcp://host:8786): "
+                     f"{failure}")
+
+
+def _silent(scheduler: str, seconds: float) -> str | None:
+    """Why a TCP scheduler address cannot be a Dask scheduler: it refuses the connection, or accepts it and says
+    nothing within ``seconds`` (a Dask scheduler sends its handshake at once; Dask itself would wait for ever).
+    None when it answers, or for other kinds of address (left to Dask)."""
+    import socket
+
+    scheme, _, rest = scheduler.rpartition("://")
+    host, _, port = rest.rpartition(":")
+    if scheme not in ("", "tcp") or not host or not port.isdigit():
+        return None
+    try:
+        with socket.create_connection((host.strip("[]"), int(port)), timeout=seconds) as probe:
+            probe.settimeout(seconds)
+            return None if probe.recv(1) else "it closed the connection without a word"
+    except TimeoutError:
+        return f"it accepts connections but says nothing within {seconds:g} s: not a Dask scheduler, or stuck"
+    except OSError as exc:
+        return exc.strerror or str(exc)[:200]
+
+
+def _collect_quietly() -> None:
+    import gc
+    import sys
+
+    hook = sys.unraisablehook
+    sys.unraisablehook = lambda _: None
+    try:
+        gc.collect()
+    finally:
+        sys.unraisablehook = hook
+
+
 @contextmanager
 def executor(workers: int | None = None, scheduler: str | None = None):
     """The executor for the knobs (see the module's doc); the cluster it starts is closed on exit."""
@@ -145,11 +209,7 @@ def executor(workers: int | None = None, scheduler: str | None = None):
     except ImportError:                                    # pragma: no cover - dask is a dependency
         raise InputError("parallel runs need Dask: pip install 'distributed'") from None
     if scheduler is not None:
-        try:
-            client = Client(scheduler, timeout="10s", set_as_default=False)
-        except Exception as exc:  # noqa: BLE001 - Dask raises OSError, TimeoutError, ValueError or AssertionError
-            raise InputError(f"cannot reach the Dask scheduler at {scheduler!r} (an address such as "
-                             f"tcp://host:8786): {exc}") from None
+        client = _connect(Client, scheduler)
         try:
             yield DaskExecutor(client, f"the Dask cluster at {scheduler}")
         finally:

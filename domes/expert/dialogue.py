@@ -117,7 +117,7 @@ class Dialogue:
             slug = problem_class.replace("_", "-")
             known = scene_names()
             default = default or next((s for s in known if slug == s or slug.startswith(s)), None)
-            return Question("scene", f"Scene whose rules give the links their roles ({', '.join(known)}, or none)",
+            return Question("scene", f"Scene whose rules give the links their roles ({', '.join(known)}, a FILE.toml, or none)",
                             parse_scene_answer, default or "none", HELP["scene"])
         if qid == "verify":
             kept = {c["id"]: LabelledChain.from_dict(c) for c in self.world.run_result.kept}

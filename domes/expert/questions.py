@@ -19,7 +19,7 @@ from domes.design.verify import Check, matches
 from domes.errors import InputError
 from domes.io.mechanisms import load_mechanism
 from domes.io.resources import knowledge_dir
-from domes.io.scenes import scene_names
+from domes.io.scenes import load_scene, scene_names
 from domes.language.parse import normalise_name, parse_criterion, parse_relevance
 from domes.language.tree import Always, ClassIs
 from domes.model.labelled import LabelledChain
@@ -93,13 +93,18 @@ def parse_names(text: str) -> frozenset[str]:
 
 
 def parse_scene_answer(text: str) -> str | None:
+    """A shipped scene's name, or the path of a scene file of the user's (kept as its absolute path), or none."""
     word = text.strip()
     if word.lower() in ("", "none", "-"):
         return None
     known = scene_names()
-    if word not in known:
-        raise InputError(f"no scene {word!r}; the scenes are: {', '.join(known)} (or none)")
-    return word
+    if word in known:
+        return word
+    if word.endswith(".toml") and Path(word).is_file():
+        load_scene(word)                                 # a scene file that does not load is refused here
+        return str(Path(word).resolve())
+    raise InputError(f"no scene {word!r}; the scenes are: {', '.join(known)}, a scene file (FILE.toml, "
+                     "docs/regeneration.md) or none")
 
 
 def parse_criterion_text(text: str) -> str:

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from domes.errors import InputError
-from domes.io.files import write_atomic
+from domes.io.files import why_not_made, write_atomic
 from domes.io.mechanisms import save_mechanism
 from domes.knowledge.problems import ProblemFrame
 from domes.model.mechanism import Mechanism
@@ -31,7 +31,7 @@ def write_report(folder: Path, frame: ProblemFrame, words: dict, scene_title: st
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(f"cannot write the report to {folder}: {exc.strerror}") from None
+        raise InputError(f"cannot write the report to {folder}: {why_not_made(folder, exc)}") from None
     files = {}
     for d in frame.designs:
         if d.get("status") == "feasible" and d.get("mechanism"):

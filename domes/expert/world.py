@@ -401,12 +401,39 @@ class World:
 
 
 def _roles(candidate: dict) -> str:
+    """A candidate told apart from the others: its roles and special joints, then its chain (link assortment,
+    joints with their types, graph6), so that two candidates with the same roles on other chains differ.
+
+    >>> _roles({"links": [{"id": 0, "roles": ["ground"]}, {"id": 1}, {"id": 2}],
+    ...         "joints": [{"links": [0, 1]}, {"links": [1, 2], "type": "P"}, {"links": [0, 2]}]})
+    '0:ground 1-2:P; chain [2^3], joints 0-1 1-2P 0-2, graph6 Bw'
+    """
     parts = []
     for link in candidate.get("links", []):
         if isinstance(link, dict) and link.get("roles"):
             parts.append(f"{link['id']}:{'+'.join(link['roles'])}")
-    special = [f"{j['links'][0]}-{j['links'][1]}:{j['type']}" for j in candidate.get("joints", []) if j.get("type", "R") != "R"]
-    return " ".join(parts + special)
+    joints = candidate.get("joints", [])
+    special = [f"{j['links'][0]}-{j['links'][1]}:{j['type']}" for j in joints if j.get("type", "R") != "R"]
+    head = " ".join(parts + special)
+    if not joints:
+        return head
+    links = len(candidate.get("links", [])) or 1 + max(max(j["links"]) for j in joints)
+    degree = [0] * links
+    for j in joints:
+        for v in j["links"]:
+            degree[v] += 1
+    assortment = " ".join(f"{d}^{degree.count(d)}" for d in sorted(set(degree)))
+    listed = " ".join(f"{j['links'][0]}-{j['links'][1]}{'' if j.get('type', 'R') == 'R' else j['type']}" for j in joints)
+    return f"{head}; chain [{assortment}], joints {listed}, graph6 {_graph6(links, joints)}".lstrip("; ")
+
+
+def _graph6(links: int, joints) -> str:
+    """The graph6 string of the chain's graph (links as vertices, joints as edges)."""
+    import networkx as nx
+
+    graph = nx.empty_graph(links)
+    graph.add_edges_from(tuple(j["links"]) for j in joints)
+    return nx.to_graph6_bytes(graph, header=False).decode().strip()
 
 
 def result_text(run: DesignRun, criteria=()) -> str:

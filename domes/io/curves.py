@@ -2,7 +2,8 @@
 
 JSON is either a list of ``[x, y]`` pairs or an object with ``"points"``
 (and optionally ``"closed"``, true by default). Every value must be a finite
-number; an error names the file, the line (CSV) or the entry (JSON).
+number, at most 1e50 in size; an error names the file, the line (CSV) or the
+entry (JSON).
 
 >>> import tempfile, os
 >>> path = os.path.join(tempfile.mkdtemp(), "path.csv")
@@ -15,14 +16,14 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 
-from domes.errors import InputError
-from domes.io.files import read_text
+from domes.errors import InputError, shown
+from domes.io.files import read_json, read_text
+from domes.model.fields import LARGEST, read_xy
 
 
 def read_points(path: str | Path) -> np.ndarray:
@@ -57,6 +58,9 @@ def _from_csv(path, text):
             raise InputError(f"{path}, line {number}: {cells[0]!r}, {cells[1]!r} are not numbers") from None
         if not (math.isfinite(x) and math.isfinite(y)):
             raise InputError(f"{path}, line {number}: the point ({x}, {y}) is not finite")
+        if max(abs(x), abs(y)) > LARGEST:
+            raise InputError(f"{path}, line {number}: the point ({x:g}, {y:g}) is too far out (coordinates at most "
+                             f"{LARGEST:g} in size)")
         rows.append((x, y))
     if not rows:
         raise InputError(f"{path}: no points (expected lines of x, y)")
@@ -64,10 +68,7 @@ def _from_csv(path, text):
 
 
 def _from_json(path, text):
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{path}: not JSON: {exc.msg} at line {exc.lineno}") from None
+    doc = read_json(path, text)
     pts = doc.get("points") if isinstance(doc, dict) else doc
     closed = doc.get("closed") if isinstance(doc, dict) else None
     if closed is not None and not isinstance(closed, bool):
@@ -76,11 +77,9 @@ def _from_json(path, text):
         raise InputError(f"{path}: expected a list of [x, y] points (or an object with \"points\")")
     out = []
     for k, p in enumerate(pts):
-        if not (isinstance(p, (list, tuple)) and len(p) == 2 and all(isinstance(v, (int, float)) for v in p)):
-            raise InputError(f"{path}: point {k} must be [x, y] with two numbers, got {p!r}")
-        if not all(math.isfinite(v) for v in p):
-            raise InputError(f"{path}: point {k} ({p[0]}, {p[1]}) is not finite")
-        out.append((float(p[0]), float(p[1])))
+        if not (isinstance(p, (list, tuple)) and len(p) == 2):
+            raise InputError(f"{path}: point {k} must be [x, y] with two numbers, got {shown(p)}")
+        out.append(read_xy(p, f"{path}: point {k}"))
     return np.array(out), closed
 
 

@@ -15,14 +15,14 @@ from pathlib import Path
 
 from domes.design.scriber import ScriberTask
 from domes.errors import InputError
-from domes.io.files import read_text, write_atomic
+from domes.io.files import read_json, write_atomic
 from domes.model.mechanism import Mechanism
 from domes.model.spatial import SpatialMechanism
 
 
 def load_mechanism(path: str | Path) -> Mechanism:
     """Read a planar mechanism file (JSON). Errors name the file, line and field."""
-    data = _json(path)
+    data = read_json(path)
     if isinstance(data, dict) and data.get("space") == "spatial":
         raise InputError(f"{path}: a spatial mechanism; this command takes planar ones (spatial files: domes "
                          "kinematics, docs/spatial.md)")
@@ -31,13 +31,13 @@ def load_mechanism(path: str | Path) -> Mechanism:
 
 def is_spatial(path: str | Path) -> bool:
     """Whether a mechanism file is spatial (it says ``"space": "spatial"``)."""
-    data = _json(path)
+    data = read_json(path)
     return isinstance(data, dict) and data.get("space") == "spatial"
 
 
 def load_spatial(path: str | Path) -> SpatialMechanism:
     """Read a spatial mechanism file (JSON, ``docs/spatial.md``). Errors name the file, line and field."""
-    return SpatialMechanism.from_dict(_json(path), str(path))
+    return SpatialMechanism.from_dict(read_json(path), str(path))
 
 
 def save_spatial(mechanism: SpatialMechanism, path: str | Path) -> None:
@@ -47,21 +47,13 @@ def save_spatial(mechanism: SpatialMechanism, path: str | Path) -> None:
 
 def load_scriber_task(path: str | Path):
     """Read a scriber task file (JSON: a 2-RPR scriber, a contour, a speed; see ``docs/dynamics.md``)."""
-    return ScriberTask.from_dict(_json(path), str(path))
+    return ScriberTask.from_dict(read_json(path), str(path))
 
 
 def is_scriber_task(path: str | Path) -> bool:
     """Whether a JSON file is a scriber task (it has a ``contour``) rather than a mechanism."""
-    data = _json(path)
+    data = read_json(path)
     return isinstance(data, dict) and "contour" in data
-
-
-def _json(path):
-    text = read_text(path)
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: invalid JSON: {exc.msg}") from None
 
 
 def save_mechanism(mechanism: Mechanism, path: str | Path) -> None:

@@ -14,7 +14,8 @@ from pathlib import Path
 
 from domes.design.brief import brief_from, check_spec, weights_from
 from domes.design.verify import CHECKS, USAGE
-from domes.errors import DomesError, InputError
+from domes.errors import DomesError, InputError, shown
+from domes.io.files import is_file
 from domes.io.resources import knowledge_dir
 from domes.io.tomlsource import TomlSource
 from domes.io.topology import read_topology
@@ -50,10 +51,11 @@ def load_scene(name_or_path: str | Path) -> Scene:
     change) is the one read before.
     """
     path = Path(name_or_path)
-    if not path.is_file():
+    if not is_file(path):
         candidate = knowledge_dir() / "scenes" / f"{name_or_path}.toml"
-        if not candidate.is_file():
-            raise InputError(f"no scene {str(name_or_path)!r}: not a file, and not one of: {', '.join(scene_names())}")
+        if not is_file(candidate):
+            raise InputError(f"no scene {shown(str(name_or_path))}: not a file, and not one of: "
+                             f"{', '.join(scene_names())}")
         path = candidate
     try:
         state = path.stat()

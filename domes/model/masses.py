@@ -19,6 +19,7 @@ Units are the user's, consistent (SI: kg, m, kg·m², N, N/m, N·s/m, m/s²).
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 from typing import Mapping
 
@@ -97,7 +98,7 @@ class MassModel:
             if any(load.force) and load.at is None:
                 raise InputError(f"{where}load {load.name!r}: a force needs the point it acts at ('at')")
         names = [x.name for x in self.loads] + [s.name for s in self.springs]
-        twice = sorted({n for n in names if names.count(n) > 1})
+        twice = sorted(n for n, count in Counter(names).items() if count > 1)
         if twice:
             raise InputError(f"{where}loads and springs: names {twice} are used twice")
         for s in self.springs:

@@ -35,10 +35,12 @@ angle of ``k``; for an R joint between two moving links ``a, b`` the angle of
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass, field
 from typing import Iterable, Mapping
 
 from domes.errors import InputError
+from domes.model.fields import LARGEST, check_space, read_list
 from domes.model.fields import check_keys as _keys
 from domes.model.fields import read_number as _num
 from domes.model.fields import read_xy as _xy
@@ -176,7 +178,7 @@ class Mechanism(Linkage):
             if p.link not in links:
                 raise InputError(f"{where}{type(p).__name__.lower()} {p.name!r}: link {p.link!r} is not one of the links")
         point_names = [p.name for p in points]
-        clash = (set(point_names) & set(by_name)) | {n for n in point_names if point_names.count(n) > 1}
+        clash = (set(point_names) & set(by_name)) | {n for n, k in Counter(point_names).items() if k > 1}
         if clash:
             raise InputError(f"{where}points: names {sorted(clash)} are used twice (points and joints share one namespace)")
         for poly in polygons:
@@ -262,8 +264,9 @@ class Mechanism(Linkage):
         >>> round(m.inputs[0].speed, 6)  # degrees by default
         1.570796
         """
-        _keys(data, {"name", "angle_unit", "links", "ground", "joints", "inputs", "points", "polygons", "comment",
-                     "gravity", "loads", "springs"}, {"links", "ground", "joints", "inputs"}, source)
+        check_space(data, "planar", source)
+        _keys(data, {"name", "angle_unit", "space", "links", "ground", "joints", "inputs", "points", "polygons",
+                     "comment", "gravity", "loads", "springs"}, {"links", "ground", "joints", "inputs"}, source)
         unit = data.get("angle_unit", "deg")
         if unit not in ("deg", "rad"):
             raise InputError(f"{source}: angle_unit must be 'deg' or 'rad', got {unit!r}")
@@ -295,24 +298,25 @@ class Mechanism(Linkage):
                 _xy(item["origin"], f"{where}.origin") if "origin" in item else None,
             ))
         inputs = []
-        for k, item in enumerate(data["inputs"]):
+        for k, item in enumerate(read_list(data["inputs"], f"{source}: inputs")):
             where = f"{source}: inputs[{k}]"
             _keys(item, {"joint", "speed", "acceleration"}, {"joint"}, where)
             jt = next((j for j in joints if j.name == item["joint"]), None)
             scale = to_rad if jt is not None and jt.kind == "R" else float
-            inputs.append(Input(str(item["joint"]), scale(_num(item.get("speed", 1.0), f"{where}.speed")),
-                                scale(_num(item.get("acceleration", 0.0), f"{where}.acceleration"))))
+            inputs.append(Input(str(item["joint"]), scale(_num(item.get("speed", 1.0), f"{where}.speed", LARGEST)),
+                                scale(_num(item.get("acceleration", 0.0), f"{where}.acceleration", LARGEST))))
         points = []
-        for k, item in enumerate(data.get("points", [])):
+        for k, item in enumerate(read_list(data.get("points", []), f"{source}: points")):
             where = f"{source}: points[{k}]"
             _keys(item, {"name", "link", "at"}, {"name", "link", "at"}, where)
             points.append(CouplerPoint(str(item["name"]), str(item["link"]), _xy(item["at"], f"{where}.at")))
         polygons = []
-        for k, item in enumerate(data.get("polygons", [])):
+        for k, item in enumerate(read_list(data.get("polygons", []), f"{source}: polygons")):
             where = f"{source}: polygons[{k}]"
             _keys(item, {"name", "link", "vertices"}, {"name", "link", "vertices"}, where)
+            vertices = read_list(item["vertices"], f"{where}.vertices")
             polygons.append(Polygon(str(item["name"]), str(item["link"]),
-                                    tuple(_xy(v, f"{where}.vertices[{i}]") for i, v in enumerate(item["vertices"]))))
+                                    tuple(_xy(v, f"{where}.vertices[{i}]") for i, v in enumerate(vertices))))
         masses = MassModel.from_dict(data, link_items, source)
         return cls.build(str(data.get("name", source)), links, str(data["ground"]), joints, inputs,
                          points, polygons, link_angles, source, masses)

@@ -25,11 +25,12 @@ are measured from it.
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass
 from typing import Mapping
 
-from domes.errors import InputError
-from domes.model.fields import check_keys, read_number
+from domes.errors import InputError, shown
+from domes.model.fields import LARGEST, check_keys, check_space, read_list, read_number
 from domes.model.labelled import LabelledChain
 from domes.model.linkage import Linkage
 from domes.model.mobility import mobility
@@ -124,7 +125,7 @@ class SpatialMechanism(Linkage):
             if j.kind in AXIAL:
                 if j.axis is None or len(j.axis) != 3 or not all(math.isfinite(v) for v in j.axis):
                     raise InputError(f"{w}: a {j.kind} joint needs its 'axis' (three finite numbers)")
-                size = math.sqrt(sum(v * v for v in j.axis))
+                size = math.hypot(*j.axis)  # no overflow on large components
                 if size < 1e-12:
                     raise InputError(f"{w}: the axis {list(j.axis)} has no direction")
                 axis = tuple(v / size for v in j.axis)
@@ -148,7 +149,7 @@ class SpatialMechanism(Linkage):
             if not (math.isfinite(i.speed) and math.isfinite(i.acceleration)):
                 raise InputError(f"{where}inputs: {i.joint}: speed and acceleration must be finite")
         point_names = [p.name for p in points]
-        clash = (set(point_names) & set(by_name)) | {n for n in point_names if point_names.count(n) > 1}
+        clash = (set(point_names) & set(by_name)) | {n for n, k in Counter(point_names).items() if k > 1}
         if clash:
             raise InputError(f"{where}points: names {sorted(clash)} are used twice (points and joints share one namespace)")
         for p in points:
@@ -202,8 +203,7 @@ class SpatialMechanism(Linkage):
         """From the JSON structure of ``docs/spatial.md`` (angles in degrees unless ``angle_unit`` is rad)."""
         check_keys(data, {"name", "comment", "space", "angle_unit", "links", "ground", "joints", "inputs", "points"},
                    {"space", "links", "ground", "joints", "inputs"}, source)
-        if data["space"] != "spatial":
-            raise InputError(f"{source}: space: 'spatial' for a spatial mechanism (a planar file has no 'space')")
+        check_space(data, "spatial", source)
         unit = data.get("angle_unit", "deg")
         if unit not in ("deg", "rad"):
             raise InputError(f"{source}: angle_unit must be 'deg' or 'rad', got {unit!r}")
@@ -228,10 +228,11 @@ class SpatialMechanism(Linkage):
             check_keys(item, {"joint", "variable", "speed", "acceleration"}, {"joint"}, w)
             variable = str(item.get("variable", "slide" if kinds.get(item["joint"]) == "P" else "angle"))
             scale = to_rad if variable == "angle" else float
-            inputs.append(SpatialInput(str(item["joint"]), variable, scale(read_number(item.get("speed", 1.0), f"{w}.speed")),
-                                       scale(read_number(item.get("acceleration", 0.0), f"{w}.acceleration"))))
+            speed = read_number(item.get("speed", 1.0), f"{w}.speed", LARGEST)
+            acceleration = read_number(item.get("acceleration", 0.0), f"{w}.acceleration", LARGEST)
+            inputs.append(SpatialInput(str(item["joint"]), variable, scale(speed), scale(acceleration)))
         points = []
-        for k, item in enumerate(data.get("points", [])):
+        for k, item in enumerate(read_list(data.get("points", []), f"{source}: points")):
             w = f"{source}: points[{k}]"
             check_keys(item, {"name", "link", "at"}, {"name", "link", "at"}, w)
             points.append(SpatialPoint(str(item["name"]), str(item["link"]), _xyz(item["at"], f"{w}.at")))
@@ -260,8 +261,8 @@ class SpatialMechanism(Linkage):
 
 def _xyz(value, where: str) -> Point3:
     if not isinstance(value, (list, tuple)) or len(value) != 3:
-        raise InputError(f"{where}: expected [x, y, z], got {value!r}")
-    return tuple(read_number(v, f"{where}[{k}]") for k, v in enumerate(value))
+        raise InputError(f"{where}: expected [x, y, z], got {shown(value)}")
+    return tuple(read_number(v, f"{where}[{k}]", LARGEST) for k, v in enumerate(value))
 
 
 __all__ = ["AXIAL", "FREEDOM", "SpatialInput", "SpatialJoint", "SpatialMechanism", "SpatialPoint"]

@@ -139,7 +139,7 @@ def _fourbar_card(k, s, marks, arrows) -> Card:
     props = [("lengths", ", ".join(f"{name} {v:.6g}" for name, v in s.fourbar.named_lengths().items())),
              ("Grashof", s.checks.grashof), ("transmission", f"{s.checks.min_transmission_deg:.1f}° smallest"),
              ("residual", f"{s.residual:.1e}")]
-    props += [("defect", x) for x in s.defects]
+    props += [("defect", x) for x in s.defects] + [("warning", x) for x in s.warnings]
     return Card(str(k), f"solution {k}", svg, tuple(props), None if s.usable else "rejected")
 
 

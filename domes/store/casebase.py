@@ -29,6 +29,7 @@ import datetime as _dt
 import json
 import os
 import random
+import sqlite3
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -42,6 +43,7 @@ from sqlalchemy.orm import Session
 
 from domes.errors import DomesError, InputError
 from domes.io.criteria import check_unique, read_cases, read_knowledge
+from domes.io.files import missing_folder, why_not_made
 from domes.io.resources import default_casebase, knowledge_dir, shipped_casebase, user_casebase
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
@@ -612,7 +614,51 @@ def replaceable(url: str) -> str | None:
     return None
 
 
-def build(source: str | Path | None = None, url: str | None = None, force: bool = False) -> list[CriterionFrame]:
+def own_content(url: str, frames, cases) -> list[str]:
+    """What the case base at ``url`` holds that the sources (``frames``, ``cases``) lack: the user's cases,
+    criteria added or changed, recorded changes. Empty for a missing file or one that is not a case base."""
+    path = sqlite_path(url)
+    if (path is not None and not path.is_file()) or replaceable(url):
+        return []
+    try:
+        with KnowledgeBase(url) as kb:
+            stored, problems, changes = kb.frames(), kb.problems(), kb.history()
+    except (DomesError, SQLAlchemyError):
+        return []
+    shipped = {(f.id, f.text, f.relevance_text, f.enabled) for f in frames}
+    criteria = [f.id for f in stored if (f.id, f.text, f.relevance_text, f.enabled) not in shipped]
+    known = {c.id for c in cases}
+    own = [c.id for c in problems if c.id not in known]
+    found = []
+    if own:
+        found.append(f"{len(own)} case(s) of your own ({', '.join(own[:5])}{', ...' if len(own) > 5 else ''})")
+    if criteria:
+        found.append(f"{len(criteria)} criterion(s) added or changed ({', '.join(criteria[:5])}"
+                     f"{', ...' if len(criteria) > 5 else ''})")
+    if changes:
+        found.append(f"{len(changes)} recorded change(s)")
+    return found
+
+
+def _keep_copy(path: Path) -> Path:
+    """A consistent copy of the SQLite case base at ``path`` beside it (``NAME.YYYYmmdd-HHMMSS.bak``)."""
+    stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+    kept = path.with_name(f"{path.name}.{stamp}.bak")
+    n = 1
+    while kept.exists():
+        n += 1
+        kept = path.with_name(f"{path.name}.{stamp}-{n}.bak")
+    source, target = sqlite3.connect(path), sqlite3.connect(kept)
+    try:
+        source.backup(target)
+    finally:
+        source.close()
+        target.close()
+    return kept
+
+
+def build(source: str | Path | None = None, url: str | None = None, force: bool = False,
+          say=None) -> list[CriterionFrame]:
     """Build the case base from the knowledge sources; returns the frames stored.
 
     All sources are read and validated first. An SQLite file is built
@@ -620,6 +666,9 @@ def build(source: str | Path | None = None, url: str | None = None, force: bool 
     one is complete); another database has its tables dropped and made
     anew in one transaction. A target that is not a case base (another
     SQLite file, a database with other tables) is refused unless ``force``.
+    A case base that holds what the sources lack (:func:`own_content`) is
+    first copied beside itself (SQLite; ``say`` is told where), or refused
+    unless ``force`` (another database).
     """
     folder = knowledge_dir(source)
     frames = read_knowledge(folder)
@@ -629,13 +678,24 @@ def build(source: str | Path | None = None, url: str | None = None, force: bool 
         try:
             target.parent.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            raise InputError(f"cannot build {target}: {exc.strerror}") from None
+            raise InputError(f"cannot build {target}: {why_not_made(target.parent, exc)}") from None
         url = f"sqlite:///{target}"
     url = database_url(url)
     path = sqlite_path(url)
     why = None if force else replaceable(url)
     if why:
         raise InputError(f"{why}: building the case base there would destroy it; give --force to replace it anyway")
+    own = own_content(url, frames, cases)
+    if own and path is None and not force:
+        raise InputError(f"the case base {shown(url)} holds {'; '.join(own)}, which the sources lack: building would "
+                         "drop them; export them first (domes kb export, domes cases export) or give --force")
+    if own and path is not None:
+        try:
+            kept = _keep_copy(path)
+        except (OSError, sqlite3.Error) as exc:
+            raise InputError(f"cannot keep a copy of {path} before building over it: {exc}") from None
+        if say:
+            say(f"the old case base held {'; '.join(own)}: a copy is kept at {kept}")
     if path is None:
         engine = _engine(url)
         try:
@@ -652,8 +712,8 @@ def build(source: str | Path | None = None, url: str | None = None, force: bool 
         finally:
             engine.dispose()
         return frames
-    if not path.parent.is_dir():
-        raise InputError(f"cannot build {path}: folder {path.parent} does not exist")
+    if why := missing_folder(path.parent):
+        raise InputError(f"cannot build {path}: {why}")
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     if tmp.exists():
         tmp.unlink()

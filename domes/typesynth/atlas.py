@@ -131,6 +131,63 @@ def canonical_slice(task: tuple) -> bytes:
                         protocol=pickle.HIGHEST_PROTOCOL)
 
 
+def encode_ears(pairs: list[tuple[object, bytes]]) -> bytes:
+    """The ``(key, packed child)`` pairs of :func:`ears` as a file of plain numpy arrays (no pickled objects): the
+    slice files of a job folder, which must hold data, never code.
+
+    >>> pairs = ears(((_cycle(4),), 2, "charpoly"))
+    >>> decode_ears(encode_ears(pairs)) == pairs
+    True
+    """
+    import io
+
+    keys = [k for k, _ in pairs]
+    charpoly = bool(keys) and not isinstance(keys[0], bytes)
+    if charpoly:
+        fields = {"n": np.array([k[0] for k in keys], np.int64),
+                  "poly": np.array([k[1] for k in keys], np.int64).reshape(len(keys), -1)}
+    else:
+        fields = {"key_bytes": np.frombuffer(b"".join(keys), np.uint8),
+                  "key_ends": np.cumsum([len(k) for k in keys], dtype=np.int64)}
+    fields.update(child_bytes=np.frombuffer(b"".join(c for _, c in pairs), np.uint8),
+                  child_ends=np.cumsum([len(c) for _, c in pairs], dtype=np.int64))
+    out = io.BytesIO()
+    np.savez(out, **fields)
+    return out.getvalue()
+
+
+def decode_ears(data: bytes) -> list[tuple[object, bytes]]:
+    """The pairs of :func:`encode_ears`; ValueError if ``data`` is not such a file."""
+    import io
+    import zipfile
+
+    try:
+        with np.load(io.BytesIO(data), allow_pickle=False) as f:
+            arrays = {name: f[name] for name in f.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
+        raise ValueError(f"not a slice file ({exc})") from None
+
+    def split(blob, ends):
+        starts = np.concatenate([[0], ends[:-1]]) if len(ends) else ends
+        raw = blob.tobytes()
+        if len(ends) and (ends[-1] != len(raw) or np.any(np.diff(ends) < 0)):
+            raise ValueError("its offsets do not match its bytes")
+        return [raw[a:b] for a, b in zip(starts.tolist(), ends.tolist())]
+
+    if "child_bytes" not in arrays or "child_ends" not in arrays:
+        raise ValueError("it holds no children")
+    children = split(arrays["child_bytes"], arrays["child_ends"])
+    if "poly" in arrays:
+        keys = [(int(n), tuple(int(c) for c in row)) for n, row in zip(arrays["n"], arrays["poly"])]
+    elif "key_bytes" in arrays:
+        keys = split(arrays["key_bytes"], arrays["key_ends"])
+    else:
+        keys = []
+    if len(keys) != len(children):
+        raise ValueError(f"{len(keys)} keys for {len(children)} children")
+    return list(zip(keys, children))
+
+
 def pack(graph: Graph) -> bytes:
     """A graph as bytes (its link count, then its joints' link pairs), for the trip back from a worker."""
     n, edges = graph
@@ -251,8 +308,8 @@ class ChainGenerator:
             for k in range(dof + 2):
                 parents = self._two_connected(loops - 1, dof + 2 - k)
                 if sliced and len(parents) >= PARALLEL_PARENTS:
-                    for blob in self._ears_by_slices(parents, k, f"{name}-k{k}"):
-                        for cert, packed in pickle.loads(blob):
+                    for pairs in self._ears_by_slices(parents, k, f"{name}-k{k}"):
+                        for cert, packed in pairs:
                             if cert not in found:
                                 found[cert] = None
                                 raw[cert] = packed
@@ -270,22 +327,24 @@ class ChainGenerator:
         self._clock.tick(lambda: f"{links} links, DOF {dof}, {loops} loops: {len(result)} chains without a cut link", force=True)
         return result
 
-    def _ears_by_slices(self, parents: list[Graph], k: int, name: str) -> list[bytes]:
-        """The :func:`ears_of_slice` results of ``parents`` cut into slices, in slice order: on the executor (or
-        here), each written to the checkpoints as it comes and loaded from them if an earlier run wrote it."""
+    def _ears_by_slices(self, parents: list[Graph], k: int, name: str) -> list[list]:
+        """The :func:`ears` pairs of ``parents`` cut into slices, in slice order: on the executor (or here), each
+        written to the checkpoints as it comes (:func:`encode_ears`) and loaded from them if an earlier run wrote
+        it."""
         slices = TASKS_PER_WORKER * getattr(self.executor, "workers", 1)
         if self.checkpoints is not None:
             slices = max(slices, -(-len(parents) // CHECKPOINT_PARENTS))
             plan = self.checkpoints.load(f"parts/{name}.plan")     # an earlier run's slices win (other workers)
-            if plan is None:
-                self.checkpoints.save(f"parts/{name}.plan", b"%d\n" % slices)
+            planned = plan.decode("ascii", "replace").strip() if plan is not None else ""
+            if planned.isdigit() and 1 <= int(planned) <= len(parents):
+                slices = int(planned)
             else:
-                slices = int(plan)
+                self.checkpoints.save(f"parts/{name}.plan", b"%d\n" % slices)
         size = -(-len(parents) // slices)
         bounds = [(i, min(i + size, len(parents))) for i in range(0, len(parents), size)]
-        blobs: list[bytes | None] = [None] * len(bounds)
+        blobs: list = [None] * len(bounds)
         if self.checkpoints is not None:
-            blobs = [self.checkpoints.load(f"parts/{name}-{a}-{b}.ears") for a, b in bounds]
+            blobs = [self._load_slice(f"parts/{name}-{a}-{b}.ears") for a, b in bounds]
         todo = [j for j, blob in enumerate(blobs) if blob is None]
         if not todo:
             return blobs
@@ -298,10 +357,23 @@ class ChainGenerator:
         completed = self.executor.completed if self.executor is not None else _completed_here
         for i, blob in completed(ears_of_slice, tasks, progress=self._progress(where)):
             j = todo[i]
-            blobs[j] = blob
+            blobs[j] = pickle.loads(blob)                   # from this run's own workers, never from a file
             if self.checkpoints is not None:
-                self.checkpoints.save(f"parts/{name}-{bounds[j][0]}-{bounds[j][1]}.ears", blob)
+                self.checkpoints.save(f"parts/{name}-{bounds[j][0]}-{bounds[j][1]}.ears", encode_ears(blobs[j]))
         return blobs
+
+    def _load_slice(self, name: str) -> list | None:
+        """A slice an earlier run wrote, or None (not written, or not a slice file: then it is computed again)."""
+        data = self.checkpoints.load(name)
+        if data is None:
+            return None
+        try:
+            return decode_ears(data)
+        except ValueError as exc:
+            refuse = getattr(self.checkpoints, "refuse", None)
+            if refuse is not None:
+                refuse(name, f"is {exc}")
+            return None
 
     def _load_level(self, name: str) -> list[Graph] | None:
         """A finished atlas an earlier run wrote to the checkpoints (graph6, one chain a line), or None."""
@@ -310,7 +382,13 @@ class ChainGenerator:
         data = self.checkpoints.load(f"{name}.g6")
         if data is None:
             return None
-        graphs = [decode_graph6(line) for line in data.decode("ascii").split()]
+        try:
+            graphs = [decode_graph6(line) for line in data.decode("ascii").split()]
+        except (UnicodeDecodeError, ValueError, IndexError) as exc:
+            refuse = getattr(self.checkpoints, "refuse", None)
+            if refuse is not None:
+                refuse(f"{name}.g6", f"is not graph6 ({str(exc)[:100]})")
+            return None
         return [(n, tuple(sorted(edges))) for n, edges in graphs]
 
     def _save_level(self, name: str, result: list[Graph]) -> None:

@@ -119,6 +119,24 @@ def test_bad_curve_tasks_say_which_entry(tmp_path, change, message):
         synthesize(task, "fast", 1)
 
 
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d.update(kinds=d.pop("kind")), r"t.json: no 'kind' \('kinds' is not an entry: did you mean 'kind'\?\)"),
+    (lambda d: d.update(kind="curv"), r"kind 'curv' is not a task kind \(did you mean 'curve'\?\); the kinds are"),
+    (lambda d: d.update(scnee=d.pop("scene")), r"t.json \(curve task\): unknown field\(s\) \['scnee'\] \(did you "
+                                                r"mean 'scene'\?\)"),
+    (lambda d: d["wanted"].update(tolerence=0.1), r"t.json: wanted: unknown field\(s\) \['tolerence'\] \(did you mean "
+                                                  r"'tolerance'\?\)"),
+])
+def test_misspelt_task_entries_are_named_as_written(tmp_path, change, message):
+    # issue 25, item 5: a misspelt entry was ignored, or named as the entry it should have been
+    data = json.loads(RISING.read_text())
+    change(data)
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError, match=message):
+        load_task(path)
+
+
 def test_wanted_expression_only_takes_x():
     with pytest.raises(InputError, match="unknown name"):
         expression("y + 1")

@@ -239,3 +239,20 @@ def test_a_result_without_forces_says_so():
                    np.zeros(3), np.ones(3), Status.COMPLETE)
     assert all(math.isnan(x) for x in dyn.peak("A"))
     assert "power balance within 0 of the peak power 0" in dyn.message
+
+
+def test_numbers_that_overflow_are_a_failure_with_the_reason():
+    # issue 25, item 4: a speed of 1e300 gave NaN tables reported as complete
+    from domes.errors import NumericalError
+
+    engine = load_mechanism("examples/dynamics/slider-crank-engine.json")
+    with pytest.raises(NumericalError, match=r"the forces overflow the floating-point range .* at 3 of 3 steps, the "
+                                             "first at input A = 0°: the speed, the acceleration or the loads"):
+        inverse_dynamics(engine, 0.0, math.pi, math.pi / 2, speed=1e300)
+    loaded = dataclasses.replace(engine, masses=dataclasses.replace(
+        engine.masses, loads=(dataclasses.replace(engine.masses.loads[0], force=(-1e308, 0.0)),)))
+    with pytest.raises(NumericalError, match="overflow") as caught:
+        inverse_dynamics(loaded, 0.0, math.pi, math.pi / 2)
+    assert caught.value.kind == "overflow"
+    big = inverse_dynamics(engine, 0.0, math.pi, math.pi / 2, speed=1e100)   # huge, but numbers
+    assert big.success and np.all(np.isfinite(big.driving["A"]))

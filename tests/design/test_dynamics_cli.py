@@ -55,6 +55,27 @@ def test_scriber_text_and_json(capsys):
     assert len(doc["columns"]["Q1"]) == 400 and len(doc["junctions"]) == 4
 
 
+def test_scriber_out_of_stroke_stops_and_exits_1(capsys, tmp_path):
+    # issue 25, item 4: 4,000 rows and exit 0 although the contour leaves the stroke
+    task = json.loads(open(SCRIBER).read())
+    task["contour"] = {"start": [0.25, 0.1085], "segments": [{"line": [0.45, 0.1085]}, {"line": [0.25, 0.1085]}]}
+    (tmp_path / "far.json").write_text(json.dumps(task))
+    status, out, err = run(capsys, str(tmp_path / "far.json"))
+    rows = [line for line in out.splitlines() if not line.startswith("#")]
+    assert status == 1 and len(rows) == 914 and float(rows[-1].split()[1]) < 0.3414
+    assert "stopped: the contour leaves the scriber's reach at s = 0.0913616 (x = 0.341362, y = 0.1085): the " \
+           "stroke ends there" in err
+
+
+def test_overflowing_forces_exit_2_with_the_reason(capsys):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                                    # no RuntimeWarning reaches the user
+        status, out, err = run(capsys, ENGINE, "--sweep", "0:180:90", "--speed", "1e300")
+    assert status == 2 and out == "" and "the forces overflow the floating-point range" in err
+
+
 @pytest.mark.parametrize("words, message", [
     ([ENGINE, "--points", "10"], "--points is for a scriber task file"),
     ([SCRIBER, "--sweep", "0:1:1"], "--sweep is for a mechanism file"),

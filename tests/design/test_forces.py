@@ -108,3 +108,16 @@ def test_force_checks_refuse_what_they_cannot_do():
         Check.parse(["force-ratio", "point:jaw", "0:1", "-3"])
     with pytest.raises(InputError, match="empty range"):
         Check.parse(["drive", "1:1"])
+
+
+def test_force_checks_take_bare_names_as_the_kinematics_do():
+    # issue 25, item 3: 'wheel-rate axle shock -10:10' (a bare point name, as `domes kinematics` takes) crashed the
+    # design session with a KeyError; the checks read a bare name as its output, the same as 'point:axle'.
+    bare = verify(SUZUKI, Check.parse(["wheel-rate", "axle", "shock", "-10:10"]))
+    named = verify(SUZUKI, Check.parse(["wheel-rate", "point:axle", "shock", "-10:10"]))
+    assert bare.message == named.message and bare.values == named.values
+    bare = verify(CLAMP, Check.parse(["force-ratio", "jaw", "0.106:0.13", "20"]))
+    named = verify(CLAMP, Check.parse(["force-ratio", "point:jaw", "0.106:0.13", "20"]))
+    assert bare.values == named.values
+    with pytest.raises(InputError, match="output 'hub'"):
+        verify(SUZUKI, Check.parse(["wheel-rate", "hub", "shock", "-10:10"]))

@@ -236,6 +236,21 @@ def test_d15_stroke_limits():
     assert not run.success and "out of stroke" in run.message
 
 
+def test_a_contour_out_of_stroke_stops_where_the_stroke_ends():
+    # issue 25, item 4: the run went on through every point out of stroke, its numbers in the table
+    y = 0.317 / 2
+    limit = math.sqrt(0.4 ** 2 - y ** 2)
+    far = Contour.from_dict({"start": [0.3, y], "segments": [{"line": [0.39, y]}, {"line": [0.3, y]}]}, "far")
+    run = follow(S, far, 0.1, 900)
+    assert str(run.status) == "stopped" and run.s.size == int((limit - 0.3) / 0.18 * 900 + 0.5)
+    assert run.P[-1].real < limit and run.junctions == () and np.all(np.isfinite(run.Q))
+    assert f"leaves the scriber's reach at s = {limit - 0.3:.6g} (x = {limit:.6g}, y = {y:.6g}): the stroke ends " \
+           "there" in run.message
+    start = Contour.from_dict({"start": [0.39, y], "segments": [{"line": [0.3, y]}]}, "start")
+    with pytest.raises(InputError, match=r"leaves the scriber's reach at s = 0 \(x = 0.39.*before its first sample"):
+        follow(S, start, 0.1, 100)
+
+
 def test_corners_and_bad_contours_are_reported():
     square = Contour.from_dict({"start": [0.2, 0.1], "segments": [{"line": [0.3, 0.1]}, {"line": [0.3, 0.2]}]}, "sq")
     assert "corner of 90°" in follow(S, square, 0.1, 100).message
@@ -247,6 +262,21 @@ def test_corners_and_bad_contours_are_reported():
         follow(S, square, 0.0)
     with pytest.raises(InputError, match="coincide"):
         Scriber(H=0.0)
+
+
+def test_a_contour_of_too_many_segments_is_refused_and_a_stopped_run_passes_its_junctions():
+    # issue 25, item 18 (the file fuzz): 200,000 segments ran for minutes (forces on both sides of every junction);
+    # a run stopped before a later junction compared its arc length with a word
+    from domes.design.contour import MAX_SEGMENTS
+
+    many = {"start": [0.2, 0.1], "segments": [{"line": [0.3, 0.1]}, {"line": [0.2, 0.1]}] * (MAX_SEGMENTS // 2 + 1)}
+    with pytest.raises(InputError, match=f"contour.segments: {MAX_SEGMENTS + 2:,} segments; a contour has at most"):
+        Contour.from_dict(many, "many")
+    y = 0.317 / 2
+    out = Contour.from_dict({"start": [0.3, y], "segments": [{"line": [0.32, y]}, {"line": [0.39, y]},
+                                                           {"line": [0.3, y]}]}, "out")
+    run = follow(S, out, 0.1, 300)
+    assert str(run.status) == "stopped" and [j.index for j in run.junctions] == [1]
 
 
 def test_a_motion_that_jumps_is_refused_with_its_step():

@@ -115,3 +115,19 @@ def test_a_synthesised_spherical_function_generator_meets_its_precision_points()
         at = [int(np.argmin(np.abs(sw.inputs - t))) for t in thetas]
         np.testing.assert_allclose(sw.table["angle:B0"][at], phis, atol=1e-10)
         assert np.max(sw.residuals) < 1e-12
+
+
+@pytest.mark.parametrize("position, q, message", [
+    (0, lambda p: p, r"position 1: p and q are one point"),
+    (0, lambda p: -p, r"position 1: p and q are on one line through the sphere's centre"),
+    (2, lambda p: p, r"position 3: p and q are one point"),
+    (1, lambda p: 0 * p, r"position 2: q is at the sphere's centre"),
+])
+def test_positions_whose_two_points_do_not_fix_the_body_are_named(position, q, message):
+    """Issue 25, item 2: q equal to p left the frame [p, q, p × q] singular (LinAlgError)."""
+    bad = Q.copy()
+    bad[position] = q(P[position])
+    with pytest.raises(InputError, match=message):
+        rigidity(P, bad)
+    with pytest.raises(InputError, match=message):
+        rotations(P, bad)

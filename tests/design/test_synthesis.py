@@ -2,6 +2,7 @@
 
 import json
 import math
+import types
 
 import numpy as np
 import pytest
@@ -270,6 +271,28 @@ def test_bad_tasks_say_which_entry(data, message):
         task_from_dict(data)
 
 
+def test_damaged_task_values_are_named_never_a_traceback():
+    # issue 25, item 18 (the file fuzz): an integer too large for a float raised OverflowError, null for a list a
+    # TypeError, a coordinate of 1e300 a LinAlgError deep in the synthesis
+    example_4 = {"kind": "function", "rotations_deg": [[-30, 15], [-60, 45]], "rocker_pin": [0.375, 0.1875]}
+    guidance = {"kind": "guidance", "positions": [{"point": [0, 0], "angle_deg": 0}, {"point": [1, 0.2], "angle_deg": 10},
+                                                  {"point": [2, 0.1], "angle_deg": 30}, {"point": [3, 0.5], "angle_deg": 50}],
+                "circle_x": [0.1, 0.5]}
+    for data, message in [
+        ({**example_4, "rocker_pin": [10 ** 400, 0.1875]}, r"rocker_pin: expected two finite numbers .* got \[1000"),
+        ({**example_4, "rotations_deg": [[-30, 10 ** 400], [-60, 45]]}, "rotations_deg: expected two finite numbers"),
+        ({**guidance, "circle_x": None}, "'circle_x' must be a list, got None"),
+        ({**guidance, "circle_x": [1e300, 0.5]}, r"circle_x: 'x' is 1e\+300, more than 1e\+50 in size"),
+        ({**guidance, "positions": [{"point": [1e300, 0], "angle_deg": 0}, *guidance["positions"][1:]]},
+         "position 1 point: expected two finite numbers"),
+        ({**guidance, "positions": [{"point": [0, 0], "angle_deg": 10 ** 400}, *guidance["positions"][1:]]},
+         "position 1: 'angle_deg' must be a finite number, got 1000"),
+    ]:
+        with pytest.raises(InputError, match=message) as caught:
+            task_from_dict(data)
+        assert len(str(caught.value)) < 400
+
+
 EXAMPLE_5 = [(1.0, 1.0), (2.0, 0.5), (3.0, 1.5), (2.0, 2.0), (1.5, 1.9)]
 
 
@@ -410,6 +433,96 @@ def test_the_general_path_search_finds_example_5_roots():
     for s in sols:
         assert any(math.dist(s.a1, e.a1) + math.dist(s.b1, e.b1) < 1e-7 for e in exhaustive)
     assert any(math.dist(s.a1, (0.607375, -1.127103)) < 1e-6 for s in sols)
+
+
+def test_collinear_path_points_are_answered_by_least_squares(tmp_path, capsys):
+    # Issue 25, item 1: eight points on one line with a0x given (an exact count) stopped the batch of random
+    # starts with numpy's "Singular matrix". A coupler curve meets a line in at most six points: the answer says
+    # so and gives the nearest four-bars by least squares.
+    data = {"kind": "path", "name": "line", "points": [[i, 2 * i] for i in range(8)], "given": {"a0x": 0.3}}
+    result = synthesize(task_from_dict(data), "fast", 24)
+    assert "points 1 to 8 lie on one line" in result.notes[0] and "answered by least squares" in result.notes[1]
+    assert result.solutions and all(len(s.residuals) == 8 for s in result.solutions)
+    path = tmp_path / "line.json"
+    path.write_text(json.dumps(data))
+    assert main(["synthesize", str(path), "--method", "fast", "--seeds", "24", "--all"]) in (0, 1)
+    out, err = capsys.readouterr()
+    assert "lie on one line" in out and "Traceback" not in err
+
+
+def test_an_exact_path_task_without_a_root_found_says_so_and_tries_least_squares():
+    # Nine random points leave no free choice; eight random starts reach no root: the notes say so, and what
+    # least squares gave (the nearest four-bars, or that no minimum is a usable four-bar either).
+    points = np.random.default_rng(5).uniform(0, 1, (9, 2)).round(3).tolist()
+    result = synthesize(task_from_dict({"kind": "path", "points": points}), "fast", 1)
+    assert "no four-bar found through the 9 points exactly" in result.notes[0]
+    assert result.notes[1].startswith("answered by least squares" if result.solutions else "nor by least squares")
+    assert all(len(s.residuals) == 9 and "least squares: distance" in s.notes[0] for s in result.solutions)
+
+
+def test_five_points_on_one_line_give_no_runaway_pivots_and_no_warnings():
+    # Points on one line meet the equations in the limit of a translating coupler on endless cranks: the grid
+    # search found hundreds of "solutions" with cranks a million long, and numpy warned on the grid's poles.
+    import warnings
+
+    task = task_from_dict({"kind": "path", "points": [[i, 0] for i in range(5)], "a0": [0, 1], "b0": [3, 1]})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result = synthesize(task)
+    assert result.solutions and max(max(s.fourbar.lengths) for s in result.solutions) < 100
+
+
+def test_five_translated_positions_have_no_burmester_point_and_no_warning():
+    # Positions that only translate (along a line) have no circle points; the search stepped to non-finite
+    # points and numpy's "invalid value encountered in det" reached the user with its source line.
+    import warnings
+
+    task = task_from_dict({"kind": "guidance", "positions": [{"point": [k, 0], "angle_deg": 0} for k in range(5)]})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result = synthesize(task, "fast")
+    assert result.roots == 0 and not result.solutions
+
+
+def test_a_usable_linkage_with_a_poor_transmission_angle_is_warned_and_ranked_last(tmp_path, capsys):
+    # Issue 25, item 3: Example 2 called linkages with smallest transmission angles of 10.6° and 2.9° usable
+    # without a word. Below the limit (20° by default, the task's min_transmission_deg, or --min-transmission)
+    # a usable linkage carries a warning and comes after the others.
+    data = json.loads(open("examples/synthesis/ch2-example-2.json").read())
+    result = synthesize(task_from_dict(data))
+    angles = [round(s.checks.min_transmission_deg, 1) for s in result.usable]
+    assert angles == [51.9, 10.6, 2.9] and [bool(s.warnings) for s in result.usable] == [False, True, True]
+    assert "2.9° (at the precision positions) below 20°" in result.usable[2].warnings[0]
+    assert "3 usable (2 of them with a transmission angle below 20°)" in result.message
+    assert [bool(s.warnings) for s in synthesize(task_from_dict({**data, "min_transmission_deg": 5})).usable] == [
+        False, False, True]
+    with pytest.raises(InputError, match="min_transmission_deg: a smallest transmission angle in degrees"):
+        task_from_dict({**data, "min_transmission_deg": 120})
+    path = tmp_path / "ex2.json"
+    path.write_text(json.dumps(data))
+    assert main(["synthesize", str(path), "--min-transmission", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "2. usable; " in out and "3. usable, with a warning;" in out and "warning: smallest transmission angle 2.9°" in out
+    assert main(["synthesize", str(path), "--min-transmission", "-1"]) == 2
+    assert "--min-transmission: a smallest transmission angle" in capsys.readouterr().err
+
+
+def test_a_long_synthesis_reports_progress_on_stderr_unless_quiet(tmp_path, capsys, monkeypatch):
+    # Issue 25, item 5: off a terminal (here stderr is captured) `domes synthesize ... -o page.html` printed
+    # nothing while it searched. A clock that jumps 100 s at every reading stands for a long run: each reading
+    # is a line, so the lines show where progress is reported (what stage, how far).
+    import domes.results
+
+    readings = iter(range(0, 10**9, 100))
+    monkeypatch.setattr(domes.results, "time", types.SimpleNamespace(monotonic=lambda: float(next(readings))))
+    page = tmp_path / "page.html"
+    args = ["synthesize", "examples/synthesis/path-twelve-points.json", "--method", "fast",
+            "--format", "html", "-o", str(page)]
+    assert main(args) in (0, 1) and page.exists()
+    err = capsys.readouterr().err
+    assert "... path points: Gauss-Newton step" in err and "... path points: polishing least-squares minimum" in err
+    assert main(args + ["--quiet"]) in (0, 1)
+    assert capsys.readouterr().err == ""
 
 
 def test_three_position_spherical_closed_form_s12():

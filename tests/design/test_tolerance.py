@@ -152,3 +152,54 @@ def test_command_line_takes_angle_tolerances_in_degrees():
     assert out.returncode == 0, out.stderr
     angle = next(d for d in json.loads(out.stdout)["dimensions"] if d["name"] == "S.angle")
     assert angle["tolerance"] == pytest.approx(0.01)
+
+
+def test_a_tolerance_not_small_beside_the_lengths_is_refused_naming_the_dimension():
+    # issue 25, item 1: ± 1e300 overflowed into inf/NaN tables; a band must be small beside what it bands
+    crank = load_mechanism("examples/mechanisms/slider-crank.json")
+    with pytest.raises(InputError, match=r"±1e\+300 on crank:A-B is not small beside its length 1: .* at most ±0\.1"):
+        Tolerancing(crank, "point:M", ANGLES, tolerance=1e300)
+    with pytest.raises(InputError, match="relative must be at most 0.1"):
+        Tolerancing(crank, "point:M", ANGLES, relative=0.5)
+    with pytest.raises(InputError, match="±10° on S.angle is not small beside a radian"):
+        Tolerancing(crank, "point:M", ANGLES, tolerance=1e-3, tolerances={"S.angle": math.radians(10.0)})
+    Tolerancing(crank, "point:M", ANGLES, tolerance=0.1)                     # a tenth of the crank: taken
+
+
+def test_command_line_refuses_a_huge_tolerance_quietly():
+    bad = run_cli("examples/mechanisms/slider-crank.json", "--output", "point:M", "--tolerance", "1e300")
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert "tolerance: ±1e+300 on crank:A-B is not small beside its length 1" in bad.stderr
+    assert "Warning" not in bad.stderr and "Traceback" not in bad.stderr
+
+
+def test_command_line_without_any_spread_says_the_ratio_is_not_defined():
+    zero = [arg for name in ("A.x", "A.y", "D.x", "D.y", "crank:A-B", "coupler:B-C", "rocker:C-D")
+            for arg in ("--set", f"{name}=0")]
+    out = run_cli("examples/mechanisms/four-bar.json", "--output", "angle:rocker", "--tolerance", "1e-3",
+                  "--samples", "100", "--sweep", "0:90:90", *zero)
+    assert out.returncode == 0, out.stderr
+    assert "its σ over first order's: not defined" in out.stdout and "Warning" not in out.stderr
+
+
+def test_command_line_text_labels_every_number_with_its_unit_degrees_for_angles():
+    # issue 25, item 6: the table was in degrees, the summary lines in unlabelled radians
+    out = run_cli("examples/mechanisms/four-bar.json", "--output", "angle:rocker", "--tolerance", "1e-3",
+                  "--samples", "2000", "--sweep", "0:90:30", "--scan")
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert "(deg) at 4 input values of A (deg)" in lines[0]
+    rows = [line.split() for line in lines if not line.startswith("#")]
+    table = [r for r in rows if len(r) == 6]                       # input, nominal, worst, 3σ first, 3σ MC, largest
+    dims = [r for r in rows if len(r) != 6]                        # name, unit, nominal, ±, share, dy/dd, its unit
+    assert len(dims) == 9 and all(d[1:3] == ["file", "units"] and d[-1] == "deg/unit" for d in dims)
+    units = lines[lines.index(next(x for x in lines if x.startswith("#       input"))) + 1]
+    assert units.split() == ["#"] + ["deg"] * 6 and len(table) == 4
+    summary = next(x for x in lines if x.startswith("# first order:"))
+    worst = float(summary.split("worst case ")[1].split(" deg")[0])
+    assert worst == pytest.approx(max(float(r[2]) for r in table), rel=1e-2)  # degrees, as in the table
+    mc = next(x for x in lines if x.startswith("# Monte Carlo:"))
+    largest = float(mc.split("largest error ")[1].split(" deg")[0])
+    assert largest == pytest.approx(max(float(r[5]) for r in table), rel=1e-2)
+    assert lines[lines.index(next(x for x in lines if x.startswith("# tolerances scaled"))) + 1].split() == \
+        ["#", "×", "deg", "deg", "×", "samples"]

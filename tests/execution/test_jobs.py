@@ -97,6 +97,35 @@ def test_job_folder_refuses_another_job_and_stray_folders(tmp_path):
         JobFolder(tmp_path / "job", SPEC).load("../notes.txt")
 
 
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs /proc, a folder that takes no new folders")
+def test_a_job_folder_that_cannot_be_made_is_named_with_the_reason(tmp_path, capsys):
+    # issue 25, item 2: --out under a system folder ended in FileNotFoundError
+    from domes.cli import main
+
+    assert main(["chains", "--links", "8", "--dof", "1", "--out", "/proc/domes-atlas"]) == 2
+    err = capsys.readouterr().err
+    assert "cannot make the job folder /proc/domes-atlas: /proc takes no new folders" in err
+    assert "Traceback" not in err
+
+
+def test_a_job_folder_the_user_may_not_make_is_named_with_the_reason(tmp_path, monkeypatch):
+    def refused(self, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(self))
+
+    monkeypatch.setattr(Path, "mkdir", refused)
+    with pytest.raises(InputError, match=f"job folder {tmp_path}/atlas: {tmp_path} does not let this user make "
+                                         r"folders in it \(Permission denied\)"):
+        JobFolder(tmp_path / "atlas", SPEC)
+
+
+def test_a_job_folder_under_a_file_says_the_parent_is_a_file(tmp_path):
+    # issue 25, item 5: it was called a missing folder
+    (tmp_path / "notes.txt").write_text("mine")
+    with pytest.raises(InputError, match=f"job folder {tmp_path}/notes.txt/atlas: {tmp_path}/notes.txt is a file, "
+                                         "not a folder"):
+        JobFolder(tmp_path / "notes.txt" / "atlas", SPEC)
+
+
 @pytest.mark.slow
 def test_killed_command_resumes_to_the_same_files(tmp_path):
     # A real kill: SIGKILL to `domes chains --out` on two workers once the first slices are on disk; rerun in
@@ -116,3 +145,67 @@ def test_killed_command_resumes_to_the_same_files(tmp_path):
     out = subprocess.run([*args, "--out", str(tmp_path / "killed")], check=True, capture_output=True, text=True)
     assert out.stdout.startswith(f"{len(chains(13, 2))} chains of 13 links, DOF 2: ")
     assert files(tmp_path / "killed") == files(tmp_path / "whole")
+
+
+class Payload:
+    """A pickle that, loaded, leaves a mark: what a planted slice file would do if it were unpickled."""
+
+    def __reduce__(self):
+        return (os.mkdir, (os.environ["DOMES_TEST_MARK"],))
+
+
+def _interrupted(folder: Path) -> list[str]:
+    """A folder of the 12-link atlas stopped after two slices of its last level: the slices' names."""
+    with pytest.raises(Stop):
+        ChainGenerator(checkpoints=FailingFolder(folder, SPEC, "chains-n12-F1-k1", 1)).chains(12, 1)
+    return sorted(str(p.relative_to(folder)) for p in (folder / "parts").glob("*.ears"))
+
+
+def test_a_planted_pickle_in_a_job_folder_runs_nothing_and_is_named(tmp_path, monkeypatch):
+    # issue 31, item 1: resuming loaded slice files with pickle.loads, so a planted payload ran.
+    import pickle
+
+    mark = tmp_path / "payload-ran"
+    monkeypatch.setenv("DOMES_TEST_MARK", str(mark))
+    whole = tmp_path / "whole"
+    ChainGenerator(checkpoints=JobFolder(whole, SPEC)).chains(12, 1)
+    folder = tmp_path / "job"
+    slices = _interrupted(folder)
+    planted = folder / slices[0]
+    planted.write_bytes(pickle.dumps(Payload()))                     # a damaged slice, listed with another checksum
+    foreign = folder / "parts" / "chains-n12-F1-k1-0-1.ears"        # and one no run of this job wrote
+    foreign.write_bytes(pickle.dumps(Payload()))
+    said = []
+    again = ChainGenerator(checkpoints=JobFolder(folder, SPEC, say=said.append)).chains(12, 1)
+    assert not mark.exists()                                         # nothing ran
+    assert again == ChainGenerator().chains(12, 1)
+    assert any(str(planted) in s and "is damaged" in s for s in said), said
+    assert files(folder)["chains-n12-F1.g6"] == files(whole)["chains-n12-F1.g6"]
+    # listed with its own checksum (a folder copied from elsewhere, job.json and all): read as data, refused
+    folder2 = tmp_path / "job2"
+    slices = _interrupted(folder2)
+    job = JobFolder(folder2, SPEC)
+    job.save(slices[0], pickle.dumps(Payload()))
+    said.clear()
+    assert ChainGenerator(checkpoints=JobFolder(folder2, SPEC, say=said.append)).chains(12, 1) == again
+    assert not mark.exists() and any("is not a slice file" in s for s in said), said
+
+
+@pytest.mark.parametrize("damage", ["cut", "doubled line", "flipped byte", "empty"])
+def test_a_damaged_finished_atlas_is_named_and_made_again(tmp_path, damage, capsys):
+    # issue 31, item 2: a finished chains-n13-F2.g6 cut in half gave "13748 chains" and exit 0 (27,496 in fact).
+    from domes.cli import main
+
+    folder = tmp_path / "atlas"
+    assert main(["chains", "--links", "11", "--dof", "2", "--no-progress", "--out", str(folder)]) == 0
+    target = folder / "chains-n11-F2.g6"
+    good = target.read_bytes()
+    lines = good.splitlines(keepends=True)
+    target.write_bytes({"cut": good[: len(good) // 2], "doubled line": good + lines[-1],
+                        "flipped byte": good[:5] + bytes([good[5] ^ 1]) + good[6:], "empty": b""}[damage])
+    capsys.readouterr()
+    assert main(["chains", "--links", "11", "--dof", "2", "--no-progress", "--out", str(folder)]) == 0
+    out, err = capsys.readouterr()
+    assert out.startswith(f"{len(chains(11, 2))} chains of 11 links")
+    assert f"{target} is damaged" in err and "computed again" in err
+    assert target.read_bytes() == good

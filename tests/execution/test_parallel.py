@@ -85,6 +85,47 @@ def test_the_default_runs_here_and_bad_knobs_are_refused():
             pass
 
 
+@pytest.mark.parametrize("answer, message", [(b"", "says nothing within 1 s"),
+                                             (b"\xff" * 64 + b"HTTP/1.1 200 OK\r\n\r\n", "")], ids=["silent", "junk"])
+def test_a_scheduler_that_never_answers_or_answers_junk_is_named(monkeypatch, capfd, answer, message):
+    # issue 31, items 6 and 8: an address that accepts and never answers left a run waiting for ever; one that
+    # answers junk ended in "Unable to allocate 3.07 EiB".
+    import socket
+    import threading
+
+    import domes.execution
+
+    monkeypatch.setattr(domes.execution, "SCHEDULER_TIMEOUT", 1)
+    server = socket.create_server(("127.0.0.1", 0))
+    held = []
+    stop = threading.Event()
+
+    def accept():
+        server.settimeout(0.2)
+        while not stop.is_set():
+            try:
+                held.append(server.accept()[0])
+                held[-1].sendall(answer)
+            except OSError:
+                pass
+
+    listener = threading.Thread(target=accept, daemon=True)
+    listener.start()
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    try:
+        with pytest.raises(InputError, match=f"cannot reach the Dask scheduler at '{address}'.*{message}"):
+            with executor(scheduler=address):
+                pass
+    finally:
+        stop.set()
+        listener.join()
+        server.close()
+        for c in held:
+            c.close()
+    err = capfd.readouterr().err
+    assert "Traceback" not in err and "WARNING" not in err
+
+
 def test_seeded_monte_carlo_is_the_same_on_two_workers(cluster):
     # Tolerance sampling by seeded batches (one SeedSequence child per batch), merged in batch order.
     from domes.design.tolerance import Tolerancing, monte_carlo

@@ -295,7 +295,7 @@ def test_tolerance_spread_by_reassembling_each_perturbed_drawing(sessions, key):
     mech, q0, q1 = stroke(d)
     slide = next(j for j in mech.joints if j.kind == "P")
     samples = len(d["curve"]["x"])
-    tol = Tolerancing(mech, f"slide:{slide.name}", np.linspace(q0, q1, samples), tolerance=1.0)  # its dimensions
+    tol = Tolerancing(mech, f"slide:{slide.name}", np.linspace(q0, q1, samples), tolerance=1e-6)  # its dimensions
     on_frame = mech.ground in slide.links
     pins = ([next(j.name for j in mech.joints if j.kind == "R" and set(j.links) & set(slide.links) - {mech.ground})]
             if on_frame else cylinder_pins(mech))

@@ -301,3 +301,39 @@ def test_force_checks_the_scenes_ask_for(casebase):
     assert "The scene asks for: force-ratio OUTPUT FROM:TO RATIO" in said
     note = next(n for n in outcome.frame.notes if n.startswith("verified candidate 2"))
     assert "toggle (ratio without bound) at 0.1231" in note and "the ratio 20 is reached at 0.1230" in note
+
+
+def test_candidates_without_a_scene_are_told_apart(casebase):
+    # issue 25, item 10: without a scene the kept candidates were listed as 'candidate 3: 0-6:P 4-6:P', several
+    # alike; each now names its chain (assortment, joints, graph6), and no two lines say the same.
+    import networkx as nx
+
+    outcome, said = run(casebase, (ROOT / "examples" / "design" / "pump.answers").read_text().replace(
+        "class: double acting pump\n", "class: test pump\n"))
+    lines = [line.split(": ", 1)[1] for line in said.splitlines() if line.startswith("  candidate ")
+             and "rejected" not in line]
+    assert len(lines) == len(outcome.frame.results) > 1 and len(set(lines)) == len(lines)
+    for line, candidate in zip(lines, outcome.frame.results):
+        graph = nx.from_graph6_bytes(line.rsplit("graph6 ", 1)[1].encode())
+        assert sorted(map(sorted, graph.edges)) == sorted(sorted(j["links"]) for j in candidate["joints"])
+
+
+def test_a_scene_file_of_the_users_is_a_scene(casebase):
+    # issue 25, item 9: the dialogue refused examples/scenes/my-scene.toml, which `domes regenerate` accepts and the
+    # README invites users to copy. The session takes the file's path and regenerates by its rules.
+    from domes.io.scenes import load_scene
+    from domes.typesynth.regenerate import regenerate
+
+    scene = ROOT / "examples" / "scenes" / "my-scene.toml"
+    outcome, said = run(casebase, "class: crank six-bar\noutputs: 1\ndof: 1\nspace: planar\nloops: 2\ngear_pairs: 0\n"
+                        f"slider_pairs: 0\nnames: crank, output\nscene: {scene}\nrelevance_overrides: none\n"
+                        "more_criteria: no\nverify: none\nsatisfied: yes\n")
+    assert outcome.frame.scene == str(scene.resolve())
+    designs = regenerate(load_scene(scene)).candidates
+    assert len(outcome.frame.results) == len(designs) > 1
+    assert all({"crank", "output", "ground"} <= {r for link in c["links"] for r in link.get("roles", [])}
+               for c in outcome.frame.results)
+    outcome, said = run(casebase, f"class: lever six-bar\noutputs: 1\ndof: 1\nspace: planar\nloops: 2\ngear_pairs: 0\n"
+                        f"slider_pairs: 0\nnames: crank\nscene: {scene.with_suffix('.txt')}\nscene: none\n"
+                        "relevance_overrides: none\nmore_criteria: no\nverify: none\nsatisfied: yes\n")
+    assert "a scene file (FILE.toml" in said

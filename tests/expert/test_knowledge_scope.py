@@ -5,6 +5,8 @@ The leakage sequence of the design-loop issue: a criterion added in a pump sessi
 apply to every later problem, so that a motorcycle session (§4-1) kept none of its six candidates.
 """
 
+from pathlib import Path
+
 import pytest
 
 from domes.cli import main
@@ -152,21 +154,25 @@ def test_replay_all_lists_every_difference_and_exits_1(casebase, capsys):
     assert lines[-1].endswith(f"of {len(shipped_cases())} case(s) differ")
 
 
+def _kb_add(item):
+    """``domes kb add`` in a process of its own: its exit status."""
+    url, k = item
+    return main(["kb", "add", "--db", url, "--id", f"c{k}", "--text", "every vertex must have degree at most 4",
+                 "--why", f"writer {k}"])
+
+
 def test_concurrent_writers_queue_instead_of_colliding(casebase):
-    from concurrent.futures import ThreadPoolExecutor
+    # issue 25, item 19: 5 of 50 concurrent pairs of `kb add` failed on the criterion number; numbers are
+    # allocated inside the transaction, which waits for the other writer (SQLite BEGIN IMMEDIATE) or retries
+    from concurrent.futures import ProcessPoolExecutor
 
-    def add(k):
-        with KnowledgeBase(casebase, actor=f"writer {k}") as kb:
-            from domes.knowledge.frames import CriterionFrame
-            kb.add(CriterionFrame.create(f"c{k}", "every vertex must have degree at most 4"))
-
-    with ThreadPoolExecutor(8) as pool:
-        list(pool.map(add, range(40)))
+    with ProcessPoolExecutor(2) as pool:                     # 40 pairs: two writers at a time
+        assert list(pool.map(_kb_add, [(casebase, k) for k in range(80)])) == [0] * 80
     with KnowledgeBase(casebase) as kb:
         ids = [f.id for f in kb.frames()]
         entries = kb.history()
-    assert {f"c{k}" for k in range(40)} <= set(ids)  # every addition kept, each in the order of the base
-    assert sorted(e.target for e in entries) == sorted(f"c{k}" for k in range(40))
+    assert {f"c{k}" for k in range(80)} <= set(ids)  # every addition kept, each in the order of the base
+    assert sorted(e.target for e in entries) == sorted(f"c{k}" for k in range(80))
 
 
 def _one_session(item):
@@ -188,3 +194,14 @@ def test_design_sessions_at_the_same_time_each_keep_their_case(without_shipped_c
     assert sorted(ids, key=lambda i: int(i.rsplit("-", 1)[1])) == [f"crank-slider-{k}" for k in range(1, 41)]
     with KnowledgeBase(without_shipped_cases) as kb:
         assert len([p for p in kb.problems() if p.problem_class == "crank_slider"]) == 40
+
+
+@pytest.mark.parametrize("name", ["../../x", "..", "a/b", "/tmp/x", ".hidden/../../y"])
+def test_a_recorded_case_name_never_leaves_the_cases_folder(casebase, capsys, name):
+    # issue 31, item 7: `domes cases record ANSWERS --name ../../x` wrote outside the cases folder.
+    root = Path(__file__).resolve().parents[2]
+    before = set(root.rglob("*.json"))
+    answers = str(root / "examples" / "design" / "gripper.answers")
+    status = main(["cases", "--db", casebase, "record", answers, "--name", name])
+    assert status == 2 and "a case's name is letters, digits" in capsys.readouterr().err
+    assert set(root.rglob("*.json")) == before

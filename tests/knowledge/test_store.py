@@ -116,8 +116,21 @@ def test_build_from_the_cli_with_environment_variables(empty, capsys, monkeypatc
         assert [f.id for f in kb.frames()] == [f.id for f in read_knowledge(SHIPPED)]
         kb.add(CriterionFrame.create("extra", "every vertex must have degree at most 3"))
         kb.remove_problem(read_cases(SHIPPED)[0].id)
-    # Building again makes the case base anew from the sources: the edits are gone.
-    assert run(capsys, "kb", "build")[0] == 0
+    # Building again makes the case base anew from the sources, but not by losing the user's own work (issue 25,
+    # item 11): an SQLite case base is first copied beside itself, another database is kept unless forced.
+    status, out, err = run(capsys, "kb", "build")
+    if sqlite_path(target) is None:
+        assert status == 2 and "holds 1 criterion(s) added or changed (extra)" in err and "--force" in err
+        with KnowledgeBase() as kb:
+            assert "extra" in [f.id for f in kb.frames()]
+        status, out, err = run(capsys, "kb", "build", "--force")
+    else:
+        (kept,) = sqlite_path(target).parent.glob(sqlite_path(target).name + ".*.bak")
+        assert f"a copy is kept at {kept}" in out and "1 criterion(s) added or changed (extra)" in out
+        with KnowledgeBase(f"sqlite:///{kept}") as kb:
+            assert "extra" in [f.id for f in kb.frames()]
+            assert len(kb.history()) == 2
+    assert status == 0
     with KnowledgeBase() as kb:
         assert kb.frames() == read_knowledge(SHIPPED)
         assert kb.problems() == read_cases(SHIPPED)
@@ -331,3 +344,12 @@ def test_the_shipped_casebase_matches_the_sources():
     with KnowledgeBase(str(ROOT / "casebase.db")) as kb:
         assert kb.frames() == read_knowledge(SHIPPED)
         assert kb.problems() == read_cases(SHIPPED)
+
+
+def test_building_over_a_case_base_of_the_sources_alone_keeps_no_copy(tmp_path, capsys):
+    # issue 25, item 11: a copy is kept only when there is something of the user's to keep.
+    path = tmp_path / "casebase.db"
+    for _ in range(2):
+        status, out, _ = run(capsys, "kb", "build", "--db", str(path), "--from", str(SHIPPED))
+        assert status == 0 and "copy" not in out
+    assert list(tmp_path.glob("*.bak")) == []

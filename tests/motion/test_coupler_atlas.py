@@ -92,6 +92,50 @@ def test_bad_paths_are_refused():
         fit(np.full((12, 2), np.nan), four_bar(1, 3.5, 2.5, 3, 1, 1))
 
 
+def test_a_path_of_200000_points_is_followed_at_64_of_them_and_says_so():
+    # issue 25, item 18: its Jacobian asked for 1.75 TiB (20,000 points: 17.9 GiB); coordinates of 1e300 overflowed
+    circuit = trace(four_bar(0.909, 1.664, 1.557, 1.482, -0.646, -0.042), "P", 720).circuits[0]
+    t = np.linspace(0, len(circuit.points), 200_000, endpoint=False)
+    ring = np.vstack([circuit.points, circuit.points[:1]])
+    target = np.c_[np.interp(t, np.arange(len(ring)), ring[:, 0]), np.interp(t, np.arange(len(ring)), ring[:, 1])]
+    f = fit(target, four_bar(0.909 * 1.1, 1.664 * 0.9, 1.557 * 1.1, 1.482 * 0.95, -0.6, 0.05))
+    assert "64 of the path's 200,000 points, spread by arc length, followed in the refinement" in f.message
+    assert f.status.value == "complete" and f.after[0] < 1e-4 * f.size   # the points lie on chords of the curve
+    with pytest.raises(InputError, match=r"reaches [0-9.]+e\+300; its coordinates must be at most 1e\+50"):
+        fit(target * 1e300, four_bar(1, 3.5, 2.5, 3, 1, 1))
+
+
+def test_a_damaged_atlas_is_named_never_a_traceback(little, tmp_path):
+    # issue 25, item 18: NaN in the descriptors or the linkage rows, text for numbers, metadata not JSON or without
+    # the harmonics the look-up needs each raised from deep inside the look-up
+    import h5py
+
+    path = tmp_path / "a.h5"
+    damages = {
+        "features": (lambda f: _replace(f, "features", np.full(f["features"].shape, np.nan)), "column features has"),
+        "link": (lambda f: _replace(f, "link", np.full(f["link"].shape, np.nan)), "column link"),
+        "point": (lambda f: _replace(f, "point", np.array([b"junk"] * len(f["point"]))), "holds |S4 values"),
+        "linkages": (lambda f: _replace(f, "linkages", f["linkages"][()].ravel()), "column linkages has the shape"),
+        "meta": (lambda f: f.attrs.__setitem__("meta", "{broken"), "metadata: line 1, column 2: invalid JSON"),
+        "harmonics": (lambda f: f.attrs.__setitem__("meta", f.attrs["meta"].replace('"harmonics": 5', '"harmonics": 0')),
+                      "its 'harmonics' is 0, not a whole number from 2 to 64"),
+        "seconds": (lambda f: f.attrs.__setitem__("meta", f.attrs["meta"].replace('"seconds": ', '"seconds": -')),
+                    "its 'seconds' is -"),
+    }
+    for name, (damage, message) in damages.items():
+        save_atlas(little, path)
+        with h5py.File(path, "r+") as f:
+            damage(f)
+        with pytest.raises(InputError, match=f"the atlas's metadata|the atlas is damaged: .*{message}") as caught:
+            load_atlas(path)
+        assert message in str(caught.value), name
+
+
+def _replace(f, name, data):
+    del f[name]
+    f.create_dataset(name, data=data)
+
+
 def test_atlas_file_round_trip(little, tmp_path):
     path = tmp_path / "a.h5"
     save_atlas(little, path)
@@ -106,6 +150,27 @@ def test_atlas_file_round_trip(little, tmp_path):
         load_atlas(tmp_path / "missing.h5")
     with pytest.raises(InputError, match="does not exist"):
         save_atlas(little, tmp_path / "no" / "folder.h5")
+
+
+def test_the_next_write_removes_the_temporary_files_of_killed_writes(little, tmp_path):
+    # issue 25, item 7: a build killed mid-write left its temporary file beside the atlas forever
+    import os
+    import subprocess
+    import sys
+    import time
+
+    gone = subprocess.Popen([sys.executable, "-c", "pass"])
+    gone.wait()                                                    # a writer that no longer runs
+    dead = tmp_path / f".atlas-{gone.pid}-k3j_x9q2.h5"
+    live = tmp_path / f".atlas-{os.getpid()}-a8b_c7d6.h5"          # a write under way in a running process
+    old = tmp_path / ".atlas-z1y2x3w4.h5"                          # an older version's, from before this build
+    fresh = tmp_path / ".atlas-q9r8s7t6.h5"                        # an older version's, written during it
+    for path in (dead, live, old, fresh):
+        path.write_bytes(b"half an atlas")
+    os.utime(old, (time.time() - 3600, time.time() - 3600))
+    save_atlas(little, tmp_path / "a.h5")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["a.h5", live.name, fresh.name])
+    assert load_atlas(tmp_path / "a.h5").count == little.count
 
 
 def test_two_workers_build_the_same_atlas(little):

@@ -172,3 +172,17 @@ def test_circuits_by_class():
     first = para.circuits[0]
     q = first.inputs
     assert np.allclose(first.points, np.c_[np.cos(q) + 1.5, np.sin(q) + 0.5], atol=1e-9)
+
+
+@pytest.mark.parametrize("lengths, meet", [
+    ((1, 1, 1, 1), "B meets D (crank = frame, coupler = rocker) and C meets A"),
+    ((1, 2, 2, 1), "B meets D (crank = frame, coupler = rocker);"),
+    ((2, 2, 1, 1), "C meets A (crank = coupler, rocker = frame);"),
+])
+def test_a_folding_four_bar_is_named_not_traced(lengths, meet):
+    # Issue 25, item 6: the rhombus listed ~150 "crossings" of its curve over itself, and a = d, b = c ran for
+    # minutes: where two joints meet, the loop's position is undetermined and the motion branches.
+    with pytest.raises(InputError, match=r"a folding four-bar .*" + meet.replace("(", r"\(").replace(")", r"\)")):
+        trace(four_bar(*lengths, 0.5, 0.3))
+    near = trace(four_bar(*lengths[:3], lengths[3] * 1.01, 0.5, 0.3), "P", 360)   # 1% off: traced
+    assert near.circuits and all(len(crossings(near, c)) <= 3 for c in near.circuits)

@@ -91,4 +91,14 @@ def test_documented_match_builds_the_small_atlas(capsys, tmp_path, monkeypatch):
                  str(tmp_path / "m.html")]) == 0
     assert (tmp_path / "atlas" / "fourbar-small.h5").is_file()
     page = (tmp_path / "m.html").read_text()
-    assert page.count('class="card"') == 3 and page.count('class="wanted"') == 3 * 48
+    # the three fits are one linkage, driven from either pivot, and its cognate: one card, the others merged into it
+    assert page.count('class="card"') == 1 and page.count('class="wanted"') == 48 and page.count("merged") >= 2
+
+
+def test_match_names_what_it_cannot_do(capsys, tmp_path):
+    # Issue 25, item 4: four points on a line answered "largest distance nan" (exit 1).
+    path = tmp_path / "line.csv"
+    path.write_text("0,0\n1,2\n2,4\n3,6\n")
+    assert main(["curves", "match", str(path), "--atlas", str(tmp_path / "none.h5")]) == 2
+    err = capsys.readouterr().err
+    assert "needs at least 9 points" in err and "got 4" in err and "nan" not in err

@@ -118,3 +118,47 @@ def test_zero_length_link_is_refused_at_the_drawn_pose():
                         [Input("A")])
     with pytest.raises(DomesError, match="joints B, C, D are collinear in the drawn pose"):
         solve(m, 0.5)
+
+
+def test_an_angle_many_turns_away_is_solved_less_its_whole_turns():
+    # issue 25, item 3: --at 1e7 (degrees) walked every turn from the drawn pose (735 MB)
+    from domes.motion.planar.examples import four_bar
+
+    far = solve(four_bar(), math.radians(1e7), outputs=["angle:rocker"])       # 1e7° = 27,777 turns + 280°
+    near = solve(four_bar(), math.radians(280.0), outputs=["angle:rocker"])
+    assert far.inputs["A"] == pytest.approx(math.radians(280.0), abs=1e-9)
+    assert far.values["angle:rocker"] == pytest.approx(near.values["angle:rocker"], abs=1e-9)
+    sw = sweep(four_bar(), math.radians(1e7), math.radians(1e7 + 20), math.radians(10), outputs=["angle:rocker"])
+    assert sw.turns == 27777 and "+27,777 whole turns taken off" in sw.message
+    assert [round(math.degrees(q), 6) for q in sw.inputs] == [280.0, 290.0, 300.0]
+
+
+def test_an_angle_floats_cannot_place_is_refused():
+    # issue 25, item 3: 1e300 rad answered 126.8°, an angle floats 1e284 apart cannot mean
+    from domes.errors import InputError
+    from domes.motion.planar.examples import four_bar
+
+    with pytest.raises(InputError, match=r"input A = .*° is too large to mean an angle: floats there are"):
+        solve(four_bar(), 1e300)
+    with pytest.raises(InputError, match="too large to mean an angle"):
+        sweep(four_bar(), 0.0, 1e300, 1e299)
+
+
+def test_a_sweep_that_walks_too_far_is_refused_before_it_starts():
+    # 1.5e7° by 1.5e6°: 11 grid points, but 1.5e7 steps of the resolution walked
+    from domes.errors import InputError
+    from domes.motion.planar.examples import four_bar
+
+    with pytest.raises(InputError, match=r"walks from the drawn pose .* more than 10,000,000"):
+        sweep(four_bar(), 0.0, math.radians(1.5e7), math.radians(1.5e6))
+
+
+def test_a_length_input_far_outside_the_mechanism_is_refused():
+    import dataclasses
+
+    from domes.errors import InputError
+
+    driven = dataclasses.replace(slider_crank(), inputs=(Input("S"),))
+    assert solve(driven, 3.0, outputs=["angle:crank"]).inputs["S"] == 3.0
+    with pytest.raises(InputError, match=r"input S = 1e\+300 is far outside slider-crank \(size .*within 100 sizes"):
+        solve(driven, 1e300)

@@ -56,6 +56,17 @@ def test_errors_exit_2(argv, message, capsys):
     assert message in capsys.readouterr().err
 
 
+def test_an_angle_many_turns_away_says_the_turns_taken_off(capsys):
+    # issue 25, item 3: planar and spatial --at walked every turn; 1e300 answered or ran on
+    for path, turns in ((FOUR_BAR, "+27,777"), (str(EXAMPLES.parent / "spatial" / "rssr-seed001.json"), "+27,777")):
+        assert main(["kinematics", path, "--at", "1e7"]) == 0
+        out = capsys.readouterr().out
+        assert f"# input A{'0' if 'rssr' in path else ''}: {turns} whole turns taken off" in out
+        assert [line.split()[0] for line in out.splitlines() if not line.startswith("#")][1:] == ["280"]
+        assert main(["kinematics", path, "--at", "1e300"]) == 2
+        assert "is too large to mean an angle" in capsys.readouterr().err
+
+
 def test_missing_file_exits_2(capsys):
     assert main(["kinematics", "no-such-file.json"]) == 2
     assert "cannot read" in capsys.readouterr().err

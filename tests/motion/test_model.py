@@ -45,6 +45,43 @@ def test_bad_input_names_the_field(data, message):
         Mechanism.from_dict(data, "m.json")
 
 
+def test_a_misspelt_field_is_named_as_written_with_the_closest_known_one():
+    # issue 25, item 5: "joins" for "joints"
+    data = {("joins" if k == "joints" else k): v for k, v in BASE.items()}
+    with pytest.raises(DomesError, match=r"m.json: unknown field\(s\) \['joins'\] \(did you mean 'joints'\?\)"):
+        Mechanism.from_dict(data, "m.json")
+    data = {("joins" if k == "joints" else "lnks" if k == "links" else k): v for k, v in BASE.items()}
+    with pytest.raises(DomesError, match=r"\['joins', 'lnks'\] \(did you mean 'joints' for 'joins', 'links' for 'lnks'\?\)"):
+        Mechanism.from_dict(data, "m.json")
+
+
+def test_a_wrong_space_is_called_a_wrong_value_with_the_spaces_there_are():
+    # issue 25, item 5: it was called an unknown field
+    with pytest.raises(DomesError, match=r"m.json: space: 'plane' is not a space \(did you mean 'planar'\?\); the "
+                                         "spaces are 'planar' and 'spatial'"):
+        Mechanism.from_dict(_with(space="plane"), "m.json")
+    assert Mechanism.from_dict(_with(space="planar"), "m.json").name == Mechanism.from_dict(BASE, "m.json").name
+
+
+def test_damaged_values_are_named_never_a_traceback():
+    # issue 25, item 18 (the file fuzz): an integer too large for a float, null for a list, a coordinate that
+    # overflows the kinematics, duplicates by the thousand, and a name of 200,000 characters
+    joints = BASE["joints"]
+    cases = [
+        (_with(joints=joints[:3] + [{**joints[3], "at": [10 ** 400, 0]}]),
+         r"joints\[3\]\.at\[0\]: expected a finite number, got an integer of 401 digits \(too large\)"),
+        (_with(inputs=None), "m.json: inputs: expected a list, got None"),
+        (_with(points=None), "m.json: points: expected a list, got None"),
+        (_with(joints=joints[:3] + [{**joints[3], "at": [1e300, 0]}]), r"at\[0\]: 1e\+300 is too large"),
+        (_with(points=[{"name": "P", "link": "b", "at": [1, 1]}] * 50_000), r"points: names \['P'\] are used twice"),
+        (_with(links=["g", "a", "b", "c" * 200_000]), "link 'c' is not one of the links"),
+    ]
+    for data, message in cases:
+        with pytest.raises(DomesError, match=message) as caught:
+            Mechanism.from_dict(data, "m.json")
+        assert len(str(caught.value)) <= 400
+
+
 def test_bad_json_names_the_line(tmp_path):
     path = tmp_path / "bad.json"
     path.write_text('{\n "links": ["g",\n}\n')

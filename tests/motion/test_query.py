@@ -5,7 +5,9 @@ import math
 import pytest
 from kinematics_cases import example
 
-from domes.motion import Kinematics, sweep
+from domes.errors import InputError
+from domes.motion import Kinematics, Mechanism, sweep
+from domes.motion.planar.structure import Structure
 from domes.motion.planar.sweep import Continuation
 
 
@@ -48,3 +50,24 @@ def test_order_zero_builds_no_derivatives():
     from domes.motion import solve
     v = solve(m, 0.3, outputs=["slide:g"], order=0).values
     assert list(v) == ["slide:g"]
+
+
+def _seven_bar(inputs):
+    """A 2-DOF seven-bar: a four-bar (a, b, c, d) and a five-bar loop on its rocker (d, e, f, g, h)."""
+    at = {"a": (0, 0), "b": (1, 0), "c": (3.5, 2.449489742783178), "d": (3, 0), "e": (4.5, 1), "f": (6, 2),
+          "g": (7.5, 1), "h": (7, -1)}
+    pairs = {"a": ("frame", "crank"), "b": ("crank", "coupler"), "c": ("coupler", "rocker"), "d": ("rocker", "frame"),
+             "e": ("rocker", "l5"), "f": ("l5", "l6"), "g": ("l6", "l7"), "h": ("l7", "frame")}
+    return Mechanism.from_dict({
+        "name": "seven-bar", "links": ["frame", "crank", "coupler", "rocker", "l5", "l6", "l7"], "ground": "frame",
+        "joints": [{"name": n, "type": "R", "links": list(pairs[n]), "at": list(at[n])} for n in pairs],
+        "inputs": [{"joint": j} for j in inputs]})
+
+
+def test_two_inputs_in_one_four_bar_loop_are_not_independent():
+    # issue 25, item 4 (Yan ch. 3, the active-pair criterion of Fig. 3-19): both inputs of a 2-DOF seven-bar in its
+    # four-bar loop over-constrain that loop and leave the five-bar loop free; this crashed with StopIteration.
+    with pytest.raises(InputError, match=r"inputs a, d are not independent.*'coupler'"):
+        Structure.of(_seven_bar(["a", "d"]))
+    kinds = [g.kind for g in Structure.of(_seven_bar(["a", "h"])).groups]
+    assert kinds == ["driver", "driver", "RRR", "RRR"]                 # a and h are independent: two dyads

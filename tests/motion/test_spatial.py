@@ -8,6 +8,7 @@ Random RSSR, RCCC and two-loop chains: closure residual ≤ 1e-12 along sweeps,
 velocities and accelerations equal to finite differences.
 """
 
+import functools
 import math
 
 import numpy as np
@@ -19,6 +20,7 @@ from domes.motion.spatial.examples import rssr
 from domes.motion.spatial.loops import Loops
 from domes.motion.spatial.rssr import RSSR
 from domes.motion.spatial.sweep import spatial_sweep
+from tests.sampling import cases
 
 PAPER = RSSR.paper()
 OMEGA = 10.0
@@ -290,3 +292,48 @@ def test_spatial_mistakes_are_named():
         Loops(SpatialMechanism.build("x", good.links, "frame", good.joints, ()))
     with pytest.raises(InputError, match="output 'angle:A'"):
         Loops(good, outputs=["angle:A"])
+
+
+def test_an_angle_many_turns_away_is_swept_less_its_whole_turns():
+    # issue 25, item 3: the walk from the drawn pose went through every turn (1e300: forever)
+    far = spatial_sweep(rssr(), math.radians(1e7), math.radians(1e7), outputs=["angle:B0"])
+    near = spatial_sweep(rssr(), math.radians(280.0), math.radians(280.0), outputs=["angle:B0"])
+    assert far.turns == 27777 and "+27,777 whole turns taken off" in far.message
+    assert far.inputs[0] == pytest.approx(math.radians(280.0), abs=1e-9)
+    assert far.table["angle:B0"][0] == pytest.approx(near.table["angle:B0"][0], abs=1e-9)
+
+
+def test_inputs_floats_cannot_place_or_too_far_to_walk_are_refused():
+    with pytest.raises(InputError, match="A0 = 1e\\+300° is too large to mean an angle"):
+        spatial_sweep(rssr(), math.radians(1e300), math.radians(1e300))
+    with pytest.raises(InputError, match="more than 1,000,000"):
+        spatial_sweep(rssr(), 0.0, math.radians(3.6e6), math.radians(3.6e5))
+
+
+@functools.lru_cache(maxsize=1)
+def _rssrs_near_a_limit(count: int, seed: int = 7) -> tuple:
+    """Random RSSRs of seed 001's frame whose crank meets a limit within a radian of the drawn pose, going up:
+    the mechanism and the exact limit (the closed form's gap start, by Brent's method on its sampled sign change)."""
+    rng = np.random.default_rng(seed)
+    found = []
+    while len(found) < count:
+        mech = rssr(*rng.uniform((200, 0, 100, 100, -300), (900, 900, 500, 700, 300)))
+        starts = [a for a, _ in RSSR.of(mech).gaps("input") if 1e-3 < a < 1.0]
+        if starts:
+            found.append((mech, min(starts)))
+    return tuple(found)
+
+
+@pytest.mark.parametrize("index", range(cases(100)))
+def test_rssr_limits_are_the_exact_roots_to_the_stated_precision(index):
+    # issue 31, item 4: limits reported "located to 5.7e-9°" were off by up to 4.5e-3° against the exact roots.
+    # 100 random RSSRs near their limits (a sample of 40 unless DOMES_FULL_TESTS=1): each sweep stops at the root
+    # of the closed form's discriminant within the precision it states.
+    from domes.motion.spatial.sweep import EXACT
+
+    mech, exact = _rssrs_near_a_limit(cases(100))[index]
+    sw = spatial_sweep(mech, 0.0, exact + 0.3, math.radians(2.0))
+    assert not sw.success and sw.limit.kind == "limit"
+    assert abs(sw.limit.input - exact) <= EXACT
+    assert f"located to {math.degrees(EXACT):.10g}°" in sw.limit.message
+    assert sw.inputs[-1] <= sw.limit.input                    # the table ends at a pose that assembles

@@ -52,6 +52,7 @@ def test_a_limit_is_reported_by_the_command(tmp_path, capsys):
     (lambda d: d["joints"][0].update(at=[0, 0]), r"joints\[0\].at: expected \[x, y, z\]"),
     (lambda d: d["joints"][0].update(type="Q"), "type 'Q' is not one of"),
     (lambda d: d.update(space="planar"), "space: 'spatial'"),
+    (lambda d: d.update(space="plane"), r"space: 'plane' is not a space .*the spaces are 'planar' and 'spatial'"),
     (lambda d: d["inputs"][0].update(variable="slide"), "has no 'slide' to drive"),
     (lambda d: d["joints"][0].update(axis=[0, 0, 0]), "has no direction"),
 ])
@@ -89,3 +90,22 @@ def test_an_rccc_file_sweeps(tmp_path, capsys):
     lines = capsys.readouterr().out.strip().splitlines()
     assert lines[0].startswith("input,angle:J1,angle:J1',angle:J2") and len(lines) == 7
     assert math.isclose(float(lines[-1].split(",")[0]), 10.0)
+
+
+def test_an_axis_of_huge_components_is_a_direction_and_a_file_says_it_is_too_large(tmp_path, capsys):
+    # issue 25, item 18: an axis of 1e300 overflowed to no direction, and the mobility check's SVD failed
+    import dataclasses
+
+    from domes.motion.spatial.sweep import spatial_sweep
+
+    m = load_spatial(RSSR_FILE)
+    joints = [dataclasses.replace(m.joints[0], axis=(0.0, 0.0, 1e300)), *m.joints[1:]]
+    huge = SpatialMechanism.build(m.name, m.links, m.ground, joints, m.inputs, m.points)
+    assert huge.joints[0].axis == (0.0, 0.0, 1.0)
+    assert spatial_sweep(huge, 0.0, 1.0, 0.5, outputs=["angle:B0"]).success
+    data = json.load(open(RSSR_FILE))
+    data["joints"][0]["axis"] = [0, 0, 1e300]
+    path = tmp_path / "huge-axis.json"
+    path.write_text(json.dumps(data))
+    assert main(["kinematics", str(path), "--sweep", "0:60:30"]) == 2
+    assert "joints[0].axis[2]: 1e+300 is too large (at most 1e+50 in size)" in capsys.readouterr().err

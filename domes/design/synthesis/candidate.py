@@ -499,7 +499,7 @@ def dimension(task: CurveTask, candidates, method: str = "exact", seeds: int = 6
         for k, item in enumerate(tasks, 1):
             clock.tick(lambda: f"candidate {item[1]} ({k}/{len(tasks)}): screening {200 * seeds:,} layouts, "
                                f"polishing {polish}", force=True)
-            results.append(_dimension_one(item))
+            results.append(_dimension_one(item, clock, f"candidate {item[1]} ({k}/{len(tasks)})"))
     else:
         results = executor.map(_dimension_one, tasks, progress=progress)
     out: list[Dimensioned] = []
@@ -514,15 +514,20 @@ def dimension(task: CurveTask, candidates, method: str = "exact", seeds: int = 6
                         tuple(notes))
 
 
-def _dimension_one(item) -> tuple[list, str]:
-    """One candidate: its best three verified layouts (one per distinct curve error) and a note, or none."""
+def _dimension_one(item, clock: Ticker | None = None, where: str = "") -> tuple[list, str]:
+    """One candidate: its best three verified layouts (one per distinct curve error) and a note, or none;
+    ``clock`` hears of each layout polished and verified."""
+    clock = clock or Ticker(None)
     task, cid, chain, child, screened, polish = item
     try:
         model = Model(chain, task, f"{task.name}: candidate {cid}")
     except InputError as exc:
         return [], f"candidate {cid}: cannot carry the task: {exc}"
-    found = _fit(model, np.random.default_rng(child), screened, polish)
-    mine = [_verify(model, cid, row, f"{task.name}: candidate {cid}") for row in found]
+    found = _fit(model, np.random.default_rng(child), screened, polish, clock, where)
+    mine = []
+    for k, row in enumerate(found, 1):
+        clock.tick(lambda: f"{where}: verifying layout {k} of {len(found)} along the stroke")
+        mine.append(_verify(model, cid, row, f"{task.name}: candidate {cid}"))
     mine.sort(key=lambda s: (not s.usable, s.error))
     kept: list[Dimensioned] = []
     for s in mine:                                  # one layout per distinct curve error
@@ -535,8 +540,10 @@ def _dimension_one(item) -> tuple[list, str]:
     return kept[:3], note
 
 
-def _fit(model: Model, rng, screened: int, polish: int) -> list[np.ndarray]:
+def _fit(model: Model, rng, screened: int, polish: int, clock: Ticker | None = None,
+         where: str = "") -> list[np.ndarray]:
     """Screen ``screened`` random layouts, polish the best ``polish`` by least squares."""
+    clock = clock or Ticker(None)
     rows = model.random(rng, screened)
     e = model.evaluate(rows)
     cost = np.sum(model.residuals(rows, e) ** 2, axis=1)
@@ -545,7 +552,9 @@ def _fit(model: Model, rng, screened: int, polish: int) -> list[np.ndarray]:
     lo, hi = model.bounds()
     h = 1e-7 * model.task.size
     results = []
-    for k in order:
+    for n, k in enumerate(order, 1):
+        clock.tick(lambda: f"{where}: polishing layout {n} of {len(order)}")
+
         def jac(p):
             trial = np.vstack([p, p + h * np.eye(p.size)])
             trial = np.clip(trial, lo, hi)

@@ -67,6 +67,7 @@ class FunctionTask:
     frame: float = 1.0
     name: str = "function"
     respace: bool = False
+    min_transmission_deg: float | None = None
 
     @property
     def y0(self) -> float:

@@ -287,5 +287,8 @@ def _burmester_once(positions: list[Position], reach: float) -> list[np.ndarray]
 def _polish_xy(Ds, first, second, guess, s):
     scale = max(abs(_concyclic(Ds, first, guess + [s, 0])), 1e-300)
     fn = lambda p: [_concyclic(Ds, first, p) / scale, _concyclic(Ds, second, p) / scale]   # noqa: E731
-    sol, info, ok, _ = fsolve(fn, guess, full_output=True, xtol=1e-14)
+    with np.errstate(all="ignore"):      # steps to non-finite points (degenerate positions) fail the test below
+        sol, info, ok, _ = fsolve(fn, guess, full_output=True, xtol=1e-14)
+    if not np.all(np.isfinite(sol)):
+        return None
     return sol if ok == 1 or np.max(np.abs(info["fvec"])) < 1e-12 else None

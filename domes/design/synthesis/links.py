@@ -39,6 +39,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from domes.errors import InputError
+from domes.results import Progress, Ticker
 
 KINDS = ("S-S", "R-S", "R-R", "R-C", "C-C")
 #: The most positions each link meets with no more equations than unknowns, and the free choices left there.
@@ -113,7 +114,7 @@ def _pin(kind: str, x: np.ndarray) -> np.ndarray:
 
 
 def guiding_links(kind: str, moves, fixed: dict | None = None, starts: int = 48, seed: int = 0,
-                  tol: float = 1e-10) -> list[Link]:
+                  tol: float = 1e-10, progress: Progress | None = None) -> list[Link]:
     """Every distinct guiding link of ``kind`` for the positions ``moves`` (``(C_j, d_j)``, the first the identity)
     that the seeded starts reach; ``fixed`` pins unknown coordinates by name (``"a0x"``, ``"u0z"``, ...).
 
@@ -149,7 +150,9 @@ def guiding_links(kind: str, moves, fixed: dict | None = None, starts: int = 48,
     open_ = [k for k, nm in enumerate(names) if nm not in fixed]
     rng = np.random.default_rng(seed)
     found: list[Link] = []
-    for _ in range(starts):
+    clock = Ticker(progress)
+    for start in range(starts):
+        clock.tick(lambda: f"{kind} link: start {start + 1} of {starts}, {len(found)} link(s) found")
         x0 = rng.uniform(-2 * scale, 2 * scale, size)
         for k, nm in enumerate(names):
             if nm[0] == "u":

@@ -31,9 +31,13 @@ import numpy as np
 from scipy.optimize import fsolve
 
 from domes.errors import InputError
+from domes.results import Progress, Ticker
 
 #: Grid cells per turn of each of θ12 and θ13.
 GRID = 720
+
+#: Moving pivots farther than this many times the size of the points and fixed pivots from their centre are left out.
+REACH = 10.0
 
 
 @dataclass(frozen=True)
@@ -100,7 +104,8 @@ def _conditions(P, a0, b0, t2, t3, pair=(1, 2)):
     c2, s2, c3, s3 = np.cos(t2), np.sin(t2), np.cos(t3), np.sin(t3)
     a1 = _pivot(P, a0, c2, s2, c3, s3, pair)
     b1 = _pivot(P, b0, c2, s2, c3, s3, pair)
-    g = [_meet(P, j, a0, b0, a1, b1)[2] for j in range(1, 5) if j not in pair]
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):       # NaN at the poles: left out by the callers
+        g = [_meet(P, j, a0, b0, a1, b1)[2] for j in range(1, 5) if j not in pair]
     return a1, b1, g
 
 
@@ -127,22 +132,29 @@ def check_path(points, a0, b0) -> None:
 
 
 def five_points(points, a0, b0, grid: int = GRID, method: str = "exact", seeds: int = 64,
-                seed: int = 0) -> list[PathSolution]:
+                seed: int = 0, progress: Progress | None = None) -> list[PathSolution]:
     """Every real four-bar through five path points with fixed pivots ``a0``, ``b0`` (all eight equations
     met to 1e-9 of the points' size).
 
     ``method="fast"`` polishes ``seeds`` random starts instead of searching
     the grids (the book's procedure, step 6): quicker, and it finds some of
-    the roots, not all.
+    the roots, not all. Moving pivots farther than :data:`REACH` times the
+    task's size from its centre are left out: with the points (nearly) on one
+    line the equations are met in the limit of a translating coupler on
+    endless cranks.
     """
     check_path(points, a0, b0)
+    clock = Ticker(progress)
     P = [tuple(map(float, p)) for p in points]
     a0, b0 = tuple(map(float, a0)), tuple(map(float, b0))
     size = float(np.ptp(np.asarray(P), axis=0).max())
+    every = np.asarray(P + [a0, b0])
+    reach = (every.mean(axis=0), REACH * float(np.ptp(every, axis=0).max()))
     if method == "fast":
         found: list[PathSolution] = []
-        for guess in np.random.default_rng(seed).uniform(-math.pi, math.pi, (seeds, 2)):
-            sol = _polish(P, a0, b0, guess, size)
+        for k, guess in enumerate(np.random.default_rng(seed).uniform(-math.pi, math.pi, (seeds, 2))):
+            clock.tick(lambda: f"path points: start {k + 1} of {seeds}, {len(found)} solution(s)")
+            sol = _polish(P, a0, b0, guess, size, reach=reach)
             if sol is not None and not any(math.dist(sol.a1, f.a1) + math.dist(sol.b1, f.b1) <= 1e-7 * size
                                            for f in found):
                 found.append(sol)
@@ -155,9 +167,12 @@ def five_points(points, a0, b0, grid: int = GRID, method: str = "exact", seeds: 
     for pair in PAIRS:
         _, _, (g4, g5) = _conditions(P, a0, b0, T2, T3, pair)
         cells = _sign_cells(g4) & _sign_cells(g5) & _small(g4) & _small(g5)
-        for i, k in zip(*np.nonzero(cells)):
+        todo = list(zip(*np.nonzero(cells)))
+        for c, (i, k) in enumerate(todo):
+            clock.tick(lambda: f"path points: grid {PAIRS.index(pair) + 1} of {len(PAIRS)}, cell {c + 1} of "
+                       f"{len(todo)}, {len(found)} solution(s)")
             guess = np.array([0.5 * (t[i] + t[i + 1]), 0.5 * (t[k] + t[k + 1])])
-            sol = _polish(P, a0, b0, guess, size, pair)
+            sol = _polish(P, a0, b0, guess, size, pair, reach=reach)
             if sol is not None and not any(math.dist(sol.a1, f.a1) + math.dist(sol.b1, f.b1) <= 1e-7 * size
                                            for f in found):
                 found.append(sol)
@@ -180,7 +195,7 @@ def _sign_cells(g):
     return any_pos & any_neg
 
 
-def _polish(P, a0, b0, guess, size, pair=(1, 2)):
+def _polish(P, a0, b0, guess, size, pair=(1, 2), reach=None):
     def fn(x):
         _, _, g = _conditions(P, a0, b0, x[0], x[1], pair)
         return [float(g[0]), float(g[1])]
@@ -191,6 +206,8 @@ def _polish(P, a0, b0, guess, size, pair=(1, 2)):
         return None
     a1, b1, _ = _conditions(P, a0, b0, x[0], x[1], pair)
     a1, b1 = (float(a1[0]), float(a1[1])), (float(b1[0]), float(b1[1]))
+    if reach is not None and max(math.dist(a1, reach[0]), math.dist(b1, reach[0])) > reach[1]:
+        return None                                  # pivots run off to infinity: the points (nearly) in line
     rot = []
     for j in range(1, 5):
         if j in pair:

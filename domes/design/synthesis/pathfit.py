@@ -34,12 +34,17 @@ from scipy.optimize import least_squares
 
 from domes.design.synthesis.counts import PROBLEMS
 from domes.errors import InputError
+from domes.results import Progress, Ticker
 
 #: Solutions with a pivot farther than this many times the points' size from their centre are left out.
 REACH = 10.0
 
 #: Least-squares minima with a link shorter than this fraction of the points' size are degenerate, left out.
 SHORTEST = 0.01
+
+#: Evaluations of the polish of one least-squares minimum: the minima of a drawn path settle in about a hundred;
+#: one still moving after this many runs off with its pivots (points nearly in line) and is left out by REACH.
+POLISH = 400
 
 #: The pivot coordinates, in the order of the unknowns.
 PIVOTS = ("a0x", "a0y", "a1x", "a1y", "b1x", "b1y", "b0x", "b0y")
@@ -69,6 +74,25 @@ def check_points(points) -> None:
         for k in range(j):
             if math.dist(P[j], P[k]) <= 1e-9 * max(size, 1e-300):
                 raise InputError(f"points {k + 1} and {j + 1} coincide")
+
+
+#: A four-bar's coupler curve is a tricircular sextic: a line meets it in at most this many points.
+ON_ONE_LINE = 6
+
+
+def on_one_line(points) -> tuple[int, ...]:
+    """The numbers (from 1) of the most points on one line, to 1e-9 of the points' size; () when no three are."""
+    P = np.asarray(points, dtype=float)
+    size = float(max(np.ptp(P, axis=0).max(), 1e-300))
+    best: tuple[int, ...] = ()
+    for i in range(len(P)):
+        for j in range(i + 1, len(P)):
+            d = P[j] - P[i]
+            off = np.abs(d[0] * (P[:, 1] - P[i, 1]) - d[1] * (P[:, 0] - P[i, 0])) / max(float(np.hypot(*d)), 1e-300)
+            on = tuple(int(k) + 1 for k in np.flatnonzero(off <= 1e-9 * size))
+            if len(on) > len(best):
+                best = on
+    return best if len(best) >= 3 else ()
 
 
 def problem_counts(n: int, crank=None) -> tuple[int, int, int]:
@@ -150,26 +174,31 @@ def _residuals(X, P, given, crank, scale):
     return np.stack(rows, axis=1) / scale, np.stack(jac, axis=1) / scale
 
 
-def _levenberg_marquardt(X, P, given, crank, scale, iterations: int = 200):
+def _levenberg_marquardt(X, P, given, crank, scale, iterations: int = 200, clock: Ticker | None = None):
     """Damped Gauss-Newton from every row of ``X`` at once; the polished rows and their residuals. Rows that
-    have converged or stalled (the damping grown past 1e10) drop out of the batch."""
+    have converged or stalled (the damping grown past 1e10, or a singular step) drop out of the batch."""
     X = X.copy()
+    clock = clock or Ticker(None)
     with np.errstate(all="ignore"):
         r, J = _residuals(X, P, given, crank, scale)
         cost = np.sum(r * r, axis=1)
         lam = np.full(X.shape[0], 1e-3)
         active = np.flatnonzero(np.isfinite(cost))
         eye = np.eye(X.shape[1])
-        for _ in range(iterations):
+        for it in range(iterations):
             if not active.size:
                 break
+            clock.tick(lambda: f"path points: Gauss-Newton step {it + 1} (at most {iterations}), {active.size} of "
+                       f"{X.shape[0]} starts still moving")
             Ja, ra = J[active], r[active]
             JT = np.transpose(Ja, (0, 2, 1))
             A = JT @ Ja
             g = (JT @ ra[:, :, None])[:, :, 0]
             D = np.einsum("sii->si", A) + 1e-30
-            step = -np.linalg.solve(A + lam[active, None, None] * np.einsum("si,ij->sij", D, eye),
-                                    g[:, :, None])[:, :, 0]
+            step = _damped_steps(A + lam[active, None, None] * np.einsum("si,ij->sij", D, eye), g)
+            singular = ~np.all(np.isfinite(step), axis=1)
+            if singular.any():                 # a singular normal matrix: the start has stalled, it drops out
+                active, step = active[~singular], step[~singular]
             Xt = X[active] + step
             rt, Jt = _residuals(Xt, P, given, crank, scale)
             ct = np.sum(rt * rt, axis=1)
@@ -181,11 +210,28 @@ def _levenberg_marquardt(X, P, given, crank, scale, iterations: int = 200):
     return X, r
 
 
-def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep: int = 10) -> list[PathFit]:
+def _damped_steps(M, g):
+    """``-M⁻¹ g`` for a stack of matrices; a row whose matrix is singular gets NaN (one singular matrix does not
+    stop the batch)."""
+    try:
+        return -np.linalg.solve(M, g[:, :, None])[:, :, 0]
+    except np.linalg.LinAlgError:
+        step = np.full(g.shape, np.nan)
+        for i in range(len(M)):
+            try:
+                step[i] = -np.linalg.solve(M[i], g[i])
+            except np.linalg.LinAlgError:
+                pass
+        return step
+
+
+def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep: int = 10,
+        least_squares_only: bool = False, progress: Progress | None = None) -> list[PathFit]:
     """Four-bars through ``points`` with the pivot coordinates ``given``: every distinct root found (exact), or the
     ``keep`` best distinct local minima (least squares), from ``starts`` random starts.
 
     ``crank``: the crank's rotations ``φ1j`` (rad) from point 1 to each later point (prescribed input angles).
+    ``least_squares_only``: the best minima even when the count makes the problem exact (no root was found).
     """
     check_points(points)
     P = np.asarray(points, dtype=float)
@@ -193,22 +239,37 @@ def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep:
     if crank is not None and len(crank) != n - 1:
         raise InputError(f"prescribed input angles: one crank rotation per point after the first ({n - 1}), got "
                          f"{len(crank)}")
-    kind = check_given(n, given, crank)
+    kind = "least squares" if least_squares_only else check_given(n, given, crank)
+    clock = Ticker(progress)
     size = float(max(np.ptp(P, axis=0).max(), 1e-300))
     centre = P.mean(axis=0)
     free = [p for p in PIVOTS if p not in given]
     rng = np.random.default_rng(seed)
     X0 = np.hstack([centre[[0 if p.endswith("x") else 1 for p in free]] + 2 * size * rng.uniform(-1, 1, (starts, len(free))),
                     rng.uniform(-math.pi, math.pi, (starts, n - 1))])
-    X, r = _levenberg_marquardt(X0, P, given, crank, size)
+    X, r = _levenberg_marquardt(X0, P, given, crank, size, clock=clock)
     found = _collect(X, r, P, given, kind, size, keep)
-    if kind == "least squares":          # the minima polished to the end (the batch stops at a cap), ranked again
-        fun = lambda x: _residuals(x[None], P, given, crank, size)[0][0]            # noqa: E731
-        jac = lambda x: _residuals(x[None], P, given, crank, size)[1][0]            # noqa: E731
+    if kind == "least squares":          # the minima polished (the batch stops at a cap), ranked again
         idx = [i for i, _ in found]
-        for i in idx:
+        last: dict = {"x": None, "calls": 0}
+
+        def both(x):
+            """Residuals and Jacobian at ``x``, kept for the next call (least_squares asks both at one point)."""
+            if last["x"] is None or not np.array_equal(last["x"], x):
+                last["calls"] += 1
+                clock.tick(lambda: f"path points: polishing least-squares minimum {k + 1} of {len(idx)}, "
+                           f"{last['calls']} evaluations")
+                rr, jj = _residuals(x[None], P, given, crank, size)
+                last.update(x=np.array(x), value=(rr[0], jj[0]))
+            return last["value"]
+
+        fun = lambda x: both(x)[0]            # noqa: E731
+        jac = lambda x: both(x)[1]            # noqa: E731
+        for k, i in enumerate(idx):
+            last["calls"] = 0
             with np.errstate(all="ignore"):
-                X[i] = least_squares(fun, X[i], jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15).x
+                X[i] = least_squares(fun, X[i], jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                                     max_nfev=POLISH).x
             r[i] = fun(X[i])
         found = _collect(X[idx], r[idx], P, given, kind, size, keep)
     return [f for _, f in found]

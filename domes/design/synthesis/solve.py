@@ -6,8 +6,10 @@ of task, a result object (:class:`Synthesis`) with ``status``, ``success``,
 residual at every precision position, the checks, the structural error).
 
 Solutions are ranked by a documented score: usable ones (no defect) first,
-then by the smallest transmission angle at the precision positions, larger
-first; function generators by their largest structural error, smaller first.
+those without a warning (a smallest transmission angle below
+:data:`MIN_TRANSMISSION_DEG` or the task's) before those with one, then
+function generators by their largest structural error, smaller first, then
+by the smallest transmission angle at the precision positions, larger first.
 Rejected solutions stay in the result with their reasons.
 
 >>> from domes.design.synthesis.task import task_from_dict
@@ -21,7 +23,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -33,9 +35,14 @@ from domes.design.synthesis import sliders as sl
 from domes.design.synthesis.candidate import CurveTask, Dimensioning, SolutionSet, dimension
 from domes.design.synthesis.displacement import moved, rotation_about
 from domes.design.synthesis.fourbars import Checks, FourBar, SliderCrank, check, check_slider
-from domes.design.synthesis.task import GuidanceTask, PathTask, RotationTask
+from domes.design.synthesis.task import GuidanceTask, PathTask, RotationTask, min_transmission
 from domes.errors import InputError
 from domes.motion.planar.batch import batch
+
+#: The smallest transmission angle (°) below which a usable linkage is reported with a warning and ranked after
+#: the others. The book asks only for "a reasonable transmission angle" (seed 002 §2-3); 20° is where the design
+#: ranking's transmission factor reaches zero goodness (docs/expert.md).
+MIN_TRANSMISSION_DEG = 20.0
 
 
 @dataclass(frozen=True)
@@ -49,6 +56,7 @@ class Solution:
     structural: fn.StructuralError | None = None
     respaced: fn.Respacing | None = None
     poses: tuple = ()           # the moving pivots ((a_jx, a_jy), (b_jx, b_jy)) at every precision position
+    warnings: tuple[str, ...] = ()   # what a designer should look at in a usable linkage (a poor transmission angle)
 
     @property
     def residual(self) -> float:
@@ -73,31 +81,46 @@ class Synthesis(SolutionSet):
     roots: int
     seconds: float
     notes: tuple[str, ...] = field(default_factory=tuple)
+    min_transmission_deg: float = MIN_TRANSMISSION_DEG
     items_field = "solutions"
 
     @property
     def message(self) -> str:
+        poor = sum(1 for s in self.usable if s.warnings)
+        warned = f" ({poor} of them with a transmission angle below {self.min_transmission_deg:g}°)" if poor else ""
         return (f"{self.status}: {self.task_name}: {self.roots} real root(s), {len(self.solutions)} linkage(s), "
-                f"{len(self.usable)} usable; {self.seconds * 1e3:.1f} ms")
+                f"{len(self.usable)} usable{warned}; {self.seconds * 1e3:.1f} ms")
 
 
-def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, executor=None) -> Synthesis | Dimensioning:
+def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, executor=None,
+               min_transmission_deg: float | None = None) -> Synthesis | Dimensioning:
     """Dimension a four-bar for ``task`` (guidance, function, rotations or path): every real solution, checked.
 
     A :class:`~domes.design.synthesis.candidate.CurveTask` dimensions its
     labelled candidates by least squares instead and returns a
-    :class:`~domes.design.synthesis.candidate.Dimensioning` (``progress``, a callback, hears of each candidate;
-    ``executor``, see :mod:`domes.execution`, dimensions the candidates side by side).
+    :class:`~domes.design.synthesis.candidate.Dimensioning` (``executor``, see :mod:`domes.execution`,
+    dimensions the candidates side by side). ``progress``, a callback, hears what the search is doing now and
+    then (path points and curve tasks, the long ones).
 
     ``method="exact"`` finds every real root (closed forms, resultants, the
     path search); ``method="fast"`` polishes ``seeds`` random starts where
     the exact route searches (five positions, five precision points, five
     path points) and may miss roots; closed forms are the same either way.
+
+    ``min_transmission_deg`` (default: the task's, else
+    :data:`MIN_TRANSMISSION_DEG`): a usable four-bar whose smallest
+    transmission angle at the precision positions is below it gets a warning
+    and is ranked after the others; for a curve task it replaces the task's
+    ``limits.min_transmission_deg``.
     """
     if method not in ("exact", "fast"):
         raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
     if not (isinstance(seeds, int) and 1 <= seeds <= 100_000):
         raise InputError(f"seeds must be a whole number from 1 to 100,000, got {seeds!r}")
+    if min_transmission_deg is not None:
+        min_transmission_deg = min_transmission(min_transmission_deg, "min_transmission_deg")
+        if isinstance(task, CurveTask):
+            task = replace(task, min_transmission=math.radians(min_transmission_deg))
     if isinstance(task, CurveTask):
         if not task.candidates:
             raise InputError(f"{task.name}: no candidate to dimension (give a scene or candidates)")
@@ -114,17 +137,33 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
         roots, sols, notes = _function(task, **knobs)
         kind = "function"
     elif isinstance(task, PathTask):
-        roots, sols, notes = _path(task, **knobs)
+        roots, sols, notes = _path(task, progress=progress, **knobs)
         kind = "path"
     else:
         raise InputError(f"not a synthesis task: {type(task).__name__}")
+    if min_transmission_deg is None:
+        min_transmission_deg = getattr(task, "min_transmission_deg", None)
+    if min_transmission_deg is None:
+        min_transmission_deg = MIN_TRANSMISSION_DEG
+    sols = [_transmission_warning(s, min_transmission_deg) for s in sols]
     ranked = sorted(sols, key=_score)
-    return Synthesis(task.name, kind, tuple(ranked), roots, time.perf_counter() - started, tuple(notes))
+    return Synthesis(task.name, kind, tuple(ranked), roots, time.perf_counter() - started, tuple(notes),
+                     min_transmission_deg)
+
+
+def _transmission_warning(s: Solution, limit: float) -> Solution:
+    """``s`` with a warning when it is usable and its smallest transmission angle is below ``limit`` (°)."""
+    mu = s.checks.min_transmission_deg
+    if not s.usable or not mu < limit:
+        return s
+    return replace(s, warnings=s.warnings + (
+        f"smallest transmission angle {mu:.1f}° (at the precision positions) below {limit:g}°: the linkage "
+        "transmits force poorly there and may jam (limit: min_transmission_deg, --min-transmission)",))
 
 
 def _score(s: Solution):
     error = s.structural.largest if s.structural is not None else 0.0
-    return (not s.usable, error, -s.checks.min_transmission_deg)
+    return (not s.usable, bool(s.warnings), error, -s.checks.min_transmission_deg)
 
 
 # -- guidance --------------------------------------------------------------------------------
@@ -230,11 +269,11 @@ def generator_fourbar(g: fn.FunctionGenerator, theta: float, phi: float) -> Four
 
 # -- path generation ----------------------------------------------------------------------------
 
-def _path(task: PathTask, method: str = "exact", seeds: int = 64):
+def _path(task: PathTask, method: str = "exact", seeds: int = 64, progress=None):
     if not task.exhaustive:
-        return _path_fit(task, method, seeds)
+        return _path_fit(task, method, seeds, progress)
     a0, b0 = task.pivot("a0"), task.pivot("b0")
-    found = pt.five_points(task.points, a0, b0, method=method, seeds=seeds)
+    found = pt.five_points(task.points, a0, b0, method=method, seeds=seeds, progress=progress)
     sols = []
     for f in found:
         fb = FourBar(a0, f.a1, f.b1, b0, task.points[0])
@@ -250,12 +289,33 @@ def _path(task: PathTask, method: str = "exact", seeds: int = 64):
     return len(found), sols, [f"{len(found)} real solution(s) {where}"]
 
 
-def _path_fit(task: PathTask, method: str, seeds: int):
-    """Table 2-1's other free choices, prescribed input angles, or least squares (:mod:`.pathfit`)."""
+def _path_fit(task: PathTask, method: str, seeds: int, progress=None):
+    """Table 2-1's other free choices, prescribed input angles, or least squares (:mod:`.pathfit`); an exact
+    problem with no root found is answered by least squares, and the notes say so."""
     given = dict(task.given)
-    kind = pf.check_given(len(task.points), given, task.crank)
+    n = len(task.points)
+    kind = pf.check_given(n, given, task.crank)
     starts = 64 * seeds if method == "exact" else 8 * seeds
-    found = pf.fit(task.points, given, task.crank, starts=starts)
+    eqs, unknowns, _ = pf.problem_counts(n, task.crank)
+    line = pf.on_one_line(task.points)
+    notes = []
+    if len(line) > pf.ON_ONE_LINE:
+        notes.append(f"points {_numbers(line)} lie on one line: a four-bar's coupler curve (a sextic) meets a line "
+                     f"in at most {pf.ON_ONE_LINE} points, so no four-bar passes through them all")
+    found = []
+    if kind == "exact" and not notes:
+        found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress)
+        if not found:
+            notes.append(f"no four-bar found through the {n} points exactly ({eqs} equations, {unknowns} unknowns, "
+                         f"{len(given)} given: Table 2-1; {starts} random starts)")
+    if kind == "exact" and not found:
+        kind = "least squares"
+        found = pf.fit(task.points, given, task.crank, starts=starts, least_squares_only=True, progress=progress)
+        notes.append("answered by least squares: the nearest four-bars, each with its distance from every point"
+                     if found else "nor by least squares: no minimum met every point on one assembly mode with links "
+                     "of useful length; try more starts (seeds) or other points")
+    elif kind == "least squares":
+        found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress)
     sols = []
     for f in found:
         fb = FourBar(f.a0, f.a1, f.b1, f.b0, task.points[0])
@@ -264,22 +324,29 @@ def _path_fit(task: PathTask, method: str, seeds: int):
             a_r, b_r = math.dist(f.a1, f.a0), math.dist(f.b1, f.b0)
             res = tuple(max(abs(math.dist(A[j], f.a0) - a_r), abs(math.dist(B[j], f.b0) - b_r))
                         for j in range(len(A)))
-            notes = ()
+            extra = ()
         else:
             res = curve_distances(fb, task.points)
-            notes = (f"least squares: distance of the points from the coupler curve {max(res):.3g} largest, "
+            extra = (f"least squares: distance of the points from the coupler curve {max(res):.3g} largest, "
                      f"{float(np.sqrt(np.mean(np.square(res)))):.3g} RMS",)
-        sols.append(Solution(fb, check(fb, A, B), res, notes + (
+        sols.append(Solution(fb, check(fb, A, B), res, extra + (
             "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),),
             poses=_poses(A, B)))
-    eqs, unknowns, _ = pf.problem_counts(len(task.points), task.crank)
     if kind == "exact":
         note = (f"{len(found)} distinct real root(s) found from {starts} random starts ({eqs} equations, {unknowns} "
                 f"unknowns, {len(given)} given: Table 2-1); roots no start reached are missing")
     else:
         note = (f"least squares: {eqs} equations in {unknowns - len(given)} unknowns (Table 2-1); the {len(found)} "
                 f"best local minima of {starts} random starts")
-    return len(found), sols, [note]
+    return len(found), sols, notes + [note]
+
+
+def _numbers(numbers) -> str:
+    """``1, 2, 3`` (or ``1 to 9`` for a run)."""
+    numbers = list(numbers)
+    if len(numbers) > 3 and numbers == list(range(numbers[0], numbers[-1] + 1)):
+        return f"{numbers[0]} to {numbers[-1]}"
+    return ", ".join(map(str, numbers))
 
 
 def curve_distances(fb: FourBar, points) -> tuple[float, ...]:

@@ -32,10 +32,10 @@ import numpy as np
 from domes.design.synthesis import links, sphere
 from domes.design.synthesis import rccc as rc
 from domes.design.synthesis.spherical import centre_points_three
-from domes.errors import InputError
-from domes.model.fields import check_keys, read_number
+from domes.errors import InputError, shown
+from domes.model.fields import LARGEST, check_keys, read_number
 from domes.model.spatial import SpatialInput, SpatialJoint, SpatialMechanism
-from domes.results import Result, Status
+from domes.results import Progress, Result, Status
 
 KINDS = ("spherical-guidance", "spherical-function", "rccc", "guiding-link")
 
@@ -77,8 +77,8 @@ class RCCCTask:
 
 def _vec(value, n: int, where: str) -> np.ndarray:
     if not isinstance(value, list) or len(value) != n:
-        raise InputError(f"{where}: expected {n} numbers, got {value!r}")
-    return np.array([read_number(v, f"{where}[{k}]") for k, v in enumerate(value)])
+        raise InputError(f"{where}: expected {n} numbers, got {shown(value)}")
+    return np.array([read_number(v, f"{where}[{k}]", LARGEST) for k, v in enumerate(value)])
 
 
 def spatial_task_from_dict(data, where: str = "task"):
@@ -207,8 +207,9 @@ def _spherical_fourbar(alpha: float, a1, b1, name: str) -> SpatialMechanism:
     return SpatialMechanism.build(name, ("frame", "input", "coupler", "output"), "frame", joints, (SpatialInput("A0"),))
 
 
-def solve_spatial(task) -> SpatialSynthesis:
-    """Solve a spatial task; every solution checked (residuals, or the linkage moved by the spatial solver)."""
+def solve_spatial(task, progress: Progress | None = None) -> SpatialSynthesis:
+    """Solve a spatial task; every solution checked (residuals, or the linkage moved by the spatial solver).
+    ``progress`` hears of a guiding-link search's starts."""
     from domes.motion.spatial.sweep import spatial_sweep
 
     if isinstance(task, SphericalGuidanceTask):
@@ -237,21 +238,26 @@ def solve_spatial(task) -> SpatialSynthesis:
         for k, gen in enumerate(sphere.function_three(task.alpha, task.thetas, task.phis, task.b1), 1):
             mech = _spherical_fourbar(task.alpha, gen.a1, task.b1, f"{task.name} solution {k}")
             sw = spatial_sweep(mech, 0.0, task.thetas[-1], math.radians(1.0), outputs=["angle:B0"])
-            got = []
-            for theta, phi in zip(task.thetas, task.phis):
+            got, missed = [], []
+            for point, (theta, phi) in enumerate(zip(task.thetas, task.phis), 1):
                 i = int(np.argmin(np.abs(sw.inputs - theta)))
                 if abs(sw.inputs[i] - theta) > 1e-12:
-                    got.append(math.inf)
+                    missed.append(str(point))
                     continue
                 got.append(abs(math.remainder(sw.table["angle:B0"][i] - phi, 2 * math.pi)))
-            worst = max(worst, max(got))
+            worst = max(worst, math.inf if missed else max(got))
+            error = f"output error {max(got):.2g} rad" if got else "no precision point reached"
+            if missed:
+                error += (f"; precision point(s) {', '.join(missed)} not reached by the sweep from 0° to "
+                          f"{math.degrees(task.thetas[-1]):g}°")
             out.append(f"solution {k}: a1 = ({gen.a1[0]:.6f}, {gen.a1[1]:.6f}, {gen.a1[2]:.6f}), coupler arc "
-                       f"{math.degrees(gen.coupler):.4f}°; moved to its precision points: output error "
-                       f"{max(got):.2g} rad" + ("" if sw.limit is None else f" ({sw.limit.message})"))
+                       f"{math.degrees(gen.coupler):.4f}°; moved to its precision points: {error}"
+                       + ("" if sw.limit is None else f" ({sw.limit.message})"))
             mechs.append(mech)
         return SpatialSynthesis(task.name, "spherical-function", Status.COMPLETE, tuple(out), tuple(mechs), worst)
     if isinstance(task, GuidingLinkTask):
-        found = links.guiding_links(task.link, list(task.moves), dict(task.fixed) or None, task.starts)
+        found = links.guiding_links(task.link, list(task.moves), dict(task.fixed) or None, task.starts,
+                                    progress=progress)
         out = [f"{len(found)} {task.link} link(s) from {task.starts} starts"]
         fmt = lambda v: "—" if v is None else f"({v[0]:.6g}, {v[1]:.6g}, {v[2]:.6g})"  # noqa: E731
         for k, g in enumerate(found, 1):

@@ -67,11 +67,29 @@ class Rigidity:
                 f"orthogonal to {self.orthogonality:.2g} (worst at position {self.worst})")
 
 
+def check_frames(p, q) -> None:
+    """An InputError naming the first position whose points ``p``, ``q`` do not fix the body: one of them at the
+    sphere's centre, or both on one line through it (``q = p``, ``q = −p``), so that ``[p, q, p × q]`` is singular."""
+    for j, (pj, qj) in enumerate(zip(p, q), 1):
+        if not (np.all(np.isfinite(pj)) and np.all(np.isfinite(qj))):
+            raise InputError(f"position {j}: p and q must be finite numbers")
+        for name, v in (("p", pj), ("q", qj)):
+            if np.linalg.norm(v) <= 1e-9:
+                raise InputError(f"position {j}: {name} is at the sphere's centre; give a point on the unit sphere")
+        sine = np.linalg.norm(np.cross(pj, qj)) / (np.linalg.norm(pj) * np.linalg.norm(qj))
+        if sine <= 1e-6:
+            same = np.linalg.norm(pj - qj) <= 1e-6 * np.linalg.norm(pj)
+            what = "one point" if same else "on one line through the sphere's centre"
+            raise InputError(f"position {j}: p and q are {what}, so they do not fix the body's rotation; measure q "
+                             "at another point of the body")
+
+
 def rigidity(p, q) -> Rigidity:
     """Check positions ``p[j], q[j]`` (two body points per position) for a rigid motion about the origin."""
     p, q = (np.asarray(x, dtype=float) for x in (p, q))
     if p.shape != q.shape or p.ndim != 2 or p.shape[1] != 3 or p.shape[0] < 2:
         raise InputError("two body points per position, each (x, y, z), for two or more positions")
+    check_frames(p, q)
     norms = np.abs(np.concatenate([np.linalg.norm(p, axis=1), np.linalg.norm(q, axis=1)]) - 1.0)
     dots = np.einsum("ij,ij->i", p, q)
     first = np.column_stack([p[0], q[0], np.cross(p[0], q[0])])

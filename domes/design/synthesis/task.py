@@ -44,7 +44,7 @@ which one is wrong. Kinds:
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from domes.design.synthesis.candidate import CurveTask
 from domes.design.synthesis.expressions import expression
@@ -52,7 +52,8 @@ from domes.design.synthesis.function import FunctionTask, chebyshev, check_funct
 from domes.design.synthesis.guidance import Position, check_positions
 from domes.design.synthesis.path import check_path
 from domes.design.synthesis.pathfit import PIVOTS, check_given, check_points
-from domes.errors import InputError
+from domes.errors import InputError, shown
+from domes.model.fields import LARGEST
 
 
 @dataclass(frozen=True)
@@ -66,6 +67,7 @@ class GuidanceTask:
     name: str = "guidance"
     slider_directions: tuple[float, ...] = ()
     slider: bool = False
+    min_transmission_deg: float | None = None
 
 
 @dataclass(frozen=True)
@@ -77,6 +79,7 @@ class PathTask:
     given: tuple[tuple[str, float], ...] = ()
     crank: tuple[float, ...] | None = None
     name: str = "path"
+    min_transmission_deg: float | None = None
 
     @property
     def exhaustive(self) -> bool:
@@ -96,26 +99,66 @@ class RotationTask:
     rotations: tuple[tuple[float, float], ...]
     rocker_pin: tuple[float, float]
     name: str = "rotations"
+    min_transmission_deg: float | None = None
 
 
-def _number(data, key, where, default=None):
+def _finite(value) -> bool:
+    """Whether ``value`` is a number that a float holds, finite (not an integer too large for one)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
+
+
+def _number(data, key, where, default=None, largest=math.inf):
     value = data.get(key, default)
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{where}: {key!r} must be a finite number, got {value!r}")
+    if not _finite(value):
+        raise InputError(f"{where}: {key!r} must be a finite number, got {shown(value)}")
+    if abs(value) > largest:
+        raise InputError(f"{where}: {key!r} is {value:g}, more than {largest:g} in size")
     return float(value)
 
 
 def _pair(value, where):
     if (not isinstance(value, (list, tuple)) or len(value) != 2
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)):
-        raise InputError(f"{where}: expected two finite numbers [x, y], got {value!r}")
+            or not all(_finite(v) and abs(v) <= LARGEST for v in value)):
+        raise InputError(f"{where}: expected two finite numbers [x, y] (each at most {LARGEST:g} in size), got "
+                         f"{shown(value)}")
     return (float(value[0]), float(value[1]))
+
+
+def _list(data, key, where) -> list:
+    """The list ``data[key]``, empty when the entry is left out."""
+    value = data.get(key, [])
+    if not isinstance(value, list):
+        raise InputError(f"{where}: {key!r} must be a list, got {shown(value)}")
+    return value
 
 
 def task_from_dict(data: dict, where: str = "task"):
     """The task of a dictionary (a parsed task file); an InputError naming the entry that is wrong."""
     if not isinstance(data, dict):
         raise InputError(f"{where}: a task is a JSON object with a 'kind', got {type(data).__name__}")
+    task = _task(data, where)
+    if "min_transmission_deg" in data:
+        if isinstance(task, CurveTask):
+            raise InputError(f"{where}: a curve task takes its smallest transmission angle in "
+                             "'limits': {'min_transmission_deg': ...}")
+        task = replace(task, min_transmission_deg=min_transmission(data["min_transmission_deg"],
+                                                                   f"{where}: min_transmission_deg"))
+    return task
+
+
+def min_transmission(value, where: str) -> float:
+    """A smallest transmission angle in degrees, 0 to 90; an InputError naming ``where`` otherwise."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 <= value < 90:
+        raise InputError(f"{where}: a smallest transmission angle in degrees, from 0 to under 90, got {shown(value)}")
+    return float(value)
+
+
+def _task(data: dict, where: str):
     kind = data.get("kind")
     name = str(data.get("name", where))
     if kind == "guidance":
@@ -132,11 +175,13 @@ def task_from_dict(data: dict, where: str = "task"):
         slider = data.get("slider", False)
         if not isinstance(slider, bool):
             raise InputError(f"{where}: 'slider' must be true or false")
-        t = GuidanceTask(tuple(positions), tuple(_pair(v, f"{where}: circle_points") for v in data.get("circle_points", [])),
-                         tuple(_pair(v, f"{where}: centre_points") for v in data.get("centre_points", [])),
-                         tuple(_number({"x": v}, "x", f"{where}: circle_x") for v in data.get("circle_x", [])), name,
-                         tuple(math.radians(_number({"a": v}, "a", f"{where}: slider_directions_deg"))
-                               for v in data.get("slider_directions_deg", [])), slider)
+        t = GuidanceTask(tuple(positions),
+                         tuple(_pair(v, f"{where}: circle_points") for v in _list(data, "circle_points", where)),
+                         tuple(_pair(v, f"{where}: centre_points") for v in _list(data, "centre_points", where)),
+                         tuple(_number({"x": v}, "x", f"{where}: circle_x", largest=LARGEST)
+                               for v in _list(data, "circle_x", where)),
+                         name, tuple(math.radians(_number({"a": v}, "a", f"{where}: slider_directions_deg"))
+                                     for v in _list(data, "slider_directions_deg", where)), slider)
         n = len(positions)
         if n == 3 and len(t.circle_points) + len(t.centre_points) + len(t.slider_directions) != 2:
             raise InputError(f"{where}: three positions leave each crank one free pivot: give two 'circle_points' "
@@ -214,7 +259,7 @@ def _path(data: dict, where: str, name: str) -> PathTask:
             raise InputError(f"{where}: given {key!r} is not a pivot coordinate ({', '.join(PIVOTS)})")
         if key in given:
             raise InputError(f"{where}: {key} is given twice")
-        given[key] = _number(extra, key, f"{where}: given")
+        given[key] = _number(extra, key, f"{where}: given", largest=LARGEST)
     crank = data.get("crank_deg")
     if crank is not None:
         if not isinstance(crank, list) or len(crank) != len(pts) - 1:

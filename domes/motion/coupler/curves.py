@@ -28,6 +28,7 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.model.mechanism import Mechanism
+from domes.motion.coupler.fourbar import joints_meet, lengths_of
 from domes.motion.planar.arrays import Compiled, motion_many, outputs_many, positions_many
 from domes.motion.planar.branches import Walker
 from domes.motion.planar.continuation import Continuation, DeadPoint, Stuck, dead_point
@@ -137,6 +138,7 @@ def trace(mech: Mechanism, point: str | None = None, samples: int = SAMPLES, acc
         point = mech.points[0].name
     if not MIN_SAMPLES <= samples <= MAX_SAMPLES:
         raise InputError(f"samples must be between {MIN_SAMPLES} and {MAX_SAMPLES:,} per turn, got {samples}")
+    _check_folding(mech)
     kin = Kinematics(mech, [f"point:{point}"] + [f"point:{x}" for x in extra], 1, "assur", accuracy)
     if not vectorizable(kin):
         raise InputError(f"{mech.name}: coupler curves are traced for mechanisms of drivers and dyads; its groups "
@@ -153,6 +155,19 @@ def trace(mech: Mechanism, point: str | None = None, samples: int = SAMPLES, acc
         notes = ("the mechanism assembles at no sampled input",)
     return CouplerCurve(mech.name, point, tuple(circuits), Status.COMPLETE if circuits else Status.EMPTY, notes,
                         compiled, cont)
+
+
+def _check_folding(mech: Mechanism) -> None:
+    """An InputError for a four-bar whose joints can meet (a folding linkage): its motion branches there, so it has
+    no coupler curve to follow, and a trace would run back and forth over itself."""
+    lengths = lengths_of(mech)
+    meet = joints_meet(*lengths) if lengths is not None else None
+    if meet:
+        a, b, c, d = lengths
+        raise InputError(f"{mech.name}: a folding four-bar (a, b, c, d = {a:g}, {b:g}, {c:g}, {d:g}): {meet}; there "
+                         "the loop's position is undetermined and the motion can switch branches (a change point), "
+                         "so there is no single coupler curve to trace; change a length a little (e.g. the frame "
+                         "by 1%) to trace the curves on either side")
 
 
 class _Tracer:

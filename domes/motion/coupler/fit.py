@@ -31,6 +31,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from domes.errors import InputError
+from domes.model.fields import LARGEST
 from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism
 from domes.motion.coupler.atlas import resample_closed
 from domes.motion.coupler.curves import trace
@@ -43,6 +44,10 @@ from domes.results import Result, Status
 MATCH_SAMPLES = 256
 #: The shortest link a fit may make, relative to the path's size.
 MIN_LINK = 0.02
+#: The most wanted points a refinement follows: each point adds two unknowns, and the dense least-squares step grows
+#: with their square, so of a longer path this many of its points, spread by arc length, are followed (the fit says
+#: so in its note).
+MAX_POINTS = 64
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,6 +84,22 @@ class Fit(Result):
         return text + (f"; {self.note}" if self.note else "")
 
 
+def check_wanted(points) -> np.ndarray:
+    """The wanted path as an ``(n, 2)`` array; an InputError when it has fewer than 9 points or a non-finite one."""
+    target = np.asarray(points, dtype=float)
+    if target.ndim != 2 or target.shape[1] != 2:
+        raise InputError(f"a wanted path is a list of points (x, y), got an array of shape {target.shape}")
+    if target.shape[0] < 9:
+        raise InputError(f"a wanted path needs at least 9 points to fit a four-bar's nine dimensions, got "
+                         f"{target.shape[0]}")
+    if not np.all(np.isfinite(target)):
+        raise InputError("every point of the wanted path must be a finite number")
+    if np.max(np.abs(target)) > LARGEST:
+        raise InputError(f"the wanted path reaches {np.max(np.abs(target)):g}; its coordinates must be at most "
+                         f"{LARGEST:g} in size (scale the path)")
+    return target
+
+
 def fit(points, candidate, tol: float = 1e-6, max_nfev: int = 400, window=None) -> Fit:
     """Fit the four-bar ``candidate`` (a :class:`~domes.model.mechanism.Mechanism` from
     :func:`~domes.motion.coupler.fourbar.four_bar`, coupler point ``P``) to the path through ``points``.
@@ -88,12 +109,11 @@ def fit(points, candidate, tol: float = 1e-6, max_nfev: int = 400, window=None) 
     backwards, mirror)`` as an atlas look-up of open paths gives it. ``tol``
     is the largest distance accepted, relative to the path's size.
     """
-    target = np.asarray(points, dtype=float)
-    if target.ndim != 2 or target.shape[1] != 2 or target.shape[0] < 9:
-        raise InputError(f"a wanted path needs at least 9 points (x, y), got an array of shape {target.shape}")
-    if not np.all(np.isfinite(target)):
-        raise InputError("every point of the wanted path must be a finite number")
+    target = check_wanted(points)
     size = float(np.max(np.ptp(target, axis=0)) or 1.0)
+    resampled = resampled_note(target.shape[0])
+    if resampled:
+        target = _spread(target, MAX_POINTS, closed=window is None)
     a, b, c, d = _lengths(candidate)
     u, v = _coupler(candidate)
     curve = trace(candidate, "P", 720, extra=("B", "C"))
@@ -128,7 +148,26 @@ def fit(points, candidate, tol: float = 1e-6, max_nfev: int = 400, window=None) 
     except InputError as exc:
         after = _errors(model.residuals(x))
         status, note = Status.STOPPED, f"the fitted linkage could not be placed: {exc}"
+    note = "; ".join(n for n in (resampled, note) if n)
     return Fit(mech, lengths, (float(x[4]), float(x[5])), before, after, size, tol, int(result.nfev), status, note)
+
+
+def resampled_note(count: int) -> str:
+    """What a fit says of a path of ``count`` points when it follows fewer (empty when it follows them all)."""
+    if count <= MAX_POINTS:
+        return ""
+    return f"{MAX_POINTS} of the path's {count:,} points, spread by arc length, followed in the refinement"
+
+
+def _spread(target, count: int, closed: bool) -> np.ndarray:
+    """``count`` of the path's own points spread evenly by arc length (the first kept, and an open path's last)."""
+    n = len(target)
+    T = target[:, 0] + 1j * target[:, 1]
+    s = np.concatenate(([0.0], np.cumsum(np.abs(np.diff(np.append(T, T[0]) if closed else T)))))
+    if not s[-1] > 0:
+        return target[np.linspace(0, n - 1, count).astype(int)]
+    want = np.arange(count) / count * s[-1] if closed else np.linspace(0.0, s[-1], count)
+    return target[np.unique(np.clip(np.searchsorted(s, want), 0, n - 1))]
 
 
 def _lengths(mech):

@@ -71,6 +71,49 @@ def instant_centre(a: float, b: float, c: float, d: float, theta: float, crossed
     return lam * B[0], lam * B[1]
 
 
+def joints_meet(a: float, b: float, c: float, d: float, rel: float = 1e-9) -> str | None:
+    """What makes the four-bar fold, or None: crank = frame and coupler = rocker let the crank pin ``B`` meet the
+    rocker pivot ``D`` (a rhombus meets both cases); crank = coupler and rocker = frame let ``C`` meet ``A``.
+    There the dyad's position is undetermined: the linkage is at a change point and can switch branches.
+
+    >>> joints_meet(1, 1, 1, 1)
+    'B meets D (crank = frame, coupler = rocker) and C meets A (crank = coupler, rocker = frame)'
+    >>> joints_meet(1, 2, 2, 1.5) is None
+    True
+    """
+    same = lambda x, y: abs(x - y) <= rel * max(a, b, c, d)          # noqa: E731
+    out = []
+    if same(a, d) and same(b, c):
+        out.append("B meets D (crank = frame, coupler = rocker)")
+    if same(a, b) and same(c, d):
+        out.append("C meets A (crank = coupler, rocker = frame)")
+    return " and ".join(out) or None
+
+
+def lengths_of(mech: Mechanism) -> tuple[float, float, float, float] | None:
+    """Crank, coupler, rocker and frame of a four-bar of R joints driven at a frame pivot; None for other
+    mechanisms."""
+    if len(mech.links) != 4 or len(mech.joints) != 4 or any(j.kind != "R" for j in mech.joints) or \
+            len(mech.inputs) != 1:
+        return None
+    joints = {j.name: j for j in mech.joints}
+    first = joints.get(mech.inputs[0].joint)
+    if first is None or mech.ground not in first.links:
+        return None
+    crank = next(x for x in first.links if x != mech.ground)
+    order, link, joint = [first], crank, first
+    for _ in range(3):                                   # around the loop: crank, coupler, rocker
+        joint = next((j for j in mech.joints if link in j.links and j is not joint), None)
+        if joint is None:
+            return None
+        order.append(joint)
+        link = next(x for x in joint.links if x != link)
+    if order[-1] is first or mech.ground not in order[-1].links:
+        return None
+    A, B, C, D = (j.at for j in order)
+    return math.dist(A, B), math.dist(B, C), math.dist(C, D), math.dist(A, D)
+
+
 def four_bar(a: float, b: float, c: float, d: float, u: float, v: float, theta: float | None = None,
              crossed: bool = False, name: str | None = None) -> Mechanism:
     """The four-bar ``a, b, c, d`` with coupler point ``P`` at ``(u, v)``, drawn at crank angle ``theta``.

@@ -7,10 +7,22 @@ Fourier descriptors, distinct linkages) and refines the candidates in turn
 linkages fit within ``tol`` of the path's size, or the candidates run out
 (a linkage found again from another candidate counts once). The result lists the
 fits, best first, with the times of the look-up and of the refinement.
+
+Fits that are one linkage are merged into the first of them, and the result
+says so (``merged``): the same linkage driven from its other pivot (crank
+and rocker swapped), its Roberts-Chebyshev cognates (the three four-bars
+that trace one coupler curve: the third pivot ``O = A + z (D − A)`` with
+``z = (P − B)/(C − B)``, digest B.4), and its mirror image or another
+placement when the path is symmetric.
+
+Points on one straight line have no exact match: a coupler curve is a
+closed sextic, never straight. The fits are then curves that pass near the
+line (approximate straight-line four-bars), and the message says so.
 """
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -18,7 +30,7 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.motion.coupler.atlas import Atlas, OpenAtlas
-from domes.motion.coupler.fit import Fit, fit
+from domes.motion.coupler.fit import Fit, check_wanted, fit, resampled_note
 from domes.results import Listing, Progress, Status, Ticker
 
 #: Candidates refined at most (distinct linkages, nearest descriptors first).
@@ -39,6 +51,8 @@ class Matching(Listing):
     refine_seconds: float
     size: float
     tol: float
+    note: str = ""
+    merged: tuple[tuple[tuple[Fit, str], ...], ...] = ()     # per fit: the fits merged into it, and how they relate
     items_field = "fits"
 
     @property
@@ -47,11 +61,13 @@ class Matching(Listing):
 
     @property
     def message(self) -> str:
-        good = sum(f.success for f in self.fits)
-        best = self.fits[0].after[0] if self.fits else float("nan")
+        good = sum(f.success for f in self.fits) + sum(g.success for m in self.merged for g, _ in m)
+        best = f"best: largest distance {self.fits[0].after[0]:.3g}" if self.fits else "none could be refined"
+        same = sum(len(m) for m in self.merged)
+        same = f"; {same} merged into the linkage they repeat (same linkage, cognate or mirror)" if same else ""
         return (f"{self.status}: {good} of {self.tried} candidates fit within {self.tol:g} of the path's size "
-                f"{self.size:.4g} (best: largest distance {best:.3g}); look-up {self.lookup_seconds * 1e3:.1f} ms, "
-                f"refinement {self.refine_seconds:.2f} s")
+                f"{self.size:.4g} ({best}{same}); look-up {self.lookup_seconds * 1e3:.1f} ms, "
+                f"refinement {self.refine_seconds:.2f} s" + (f"; {self.note}" if self.note else ""))
 
 
 def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = CANDIDATES, tol: float | None = None,
@@ -72,7 +88,14 @@ def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = 
         raise InputError(f"a wanted path is an array of points (x, y), got shape {target.shape}")
     if results < 1 or candidates < 1:
         raise InputError("results and candidates must be at least 1")
+    check_wanted(target)
     size = float(np.max(np.ptp(target, axis=0)) or 1.0)
+    line = ""
+    if _on_one_line(target, size):
+        line = ("the points lie on one straight line: a coupler curve is never straight (a closed sextic), so no "
+                "four-bar traces them exactly; the fits are curves passing near the line (approximate straight-line "
+                "four-bars)" + ("" if isinstance(atlas, OpenAtlas) else
+                                "; a straight stretch is matched better as an open path (--open)"))
     t0 = time.perf_counter()
     found = atlas.lookup(target, k=candidates)
     t1 = time.perf_counter()
@@ -91,7 +114,99 @@ def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = 
         if sum(f.success for f in fits) >= results:
             break
     fits.sort(key=lambda f: (not f.success, f.after[0]))
-    return Matching(tuple(fits[:max(results, 1)]), tried, t1 - t0, time.perf_counter() - t1, size, tol)
+    kept, merged = _merge(fits, size)
+    shown, count = 0, 0
+    while shown < len(kept) and count < results:        # a fit merged into another counts as one of the results
+        count += 1 + len(merged[shown])
+        shown += 1
+    note = "; ".join(n for n in (resampled_note(len(target)), line) if n)
+    return Matching(tuple(kept[:max(shown, 1)]), tried, t1 - t0, time.perf_counter() - t1, size, tol, note,
+                    tuple(tuple(m) for m in merged[:max(shown, 1)]))
+
+
+def _on_one_line(target, size: float) -> bool:
+    """Whether the points lie on one straight line (to 1e-9 of their size)."""
+    centred = target - target.mean(axis=0)
+    return bool(np.linalg.svd(centred, compute_uv=False)[-1] <= 1e-9 * size * math.sqrt(len(target)))
+
+
+#: Fits whose pivots and lengths agree to this fraction of the path's size are one linkage (merged).
+SAME = 1e-3
+
+
+def _merge(fits: list[Fit], size: float):
+    """The fits that are distinct linkages, and per each the fits merged into it with how they relate."""
+    kept: list[Fit] = []
+    merged: list[list[tuple[Fit, str]]] = []
+    for f in fits:
+        for k, g in enumerate(kept):
+            why = relation(g, f, SAME * size)
+            if why:
+                merged[k].append((f, why))
+                break
+        else:
+            kept.append(f)
+            merged.append([])
+    return kept, merged
+
+
+def _sides(A, B, C, D, P):
+    """The linkage as two frame pivots, each with its link's length and its moving joint's distance from ``P``,
+    and the coupler's length: what does not change as it moves or is driven from the other pivot."""
+    return ((complex(A), abs(B - A), abs(P - B)), (complex(D), abs(C - D), abs(P - C)), abs(C - B))
+
+
+def _joints(f: Fit):
+    m = f.mechanism
+    A, B, C, D = (complex(*m.joint(n).at) for n in "ABCD")
+    return A, B, C, D, complex(*m.point("P")[1])
+
+
+def cognates(A, B, C, D, P) -> list[tuple]:
+    """The two Roberts-Chebyshev cognates of a four-bar (complex joint positions at one pose), each as
+    ``(A, B, C, D, P)``: on the pivots ``A`` and ``O``, and on ``D`` and ``O``; ``O = A + z (D − A)`` with
+    ``z = (P − B)/(C − B)``. Each cognate's links are the original's scaled by ``|z|`` or ``|1 − z|``.
+
+    >>> A, B, C, D, P = 0j, 1j, 3 + 1.5j, 3 + 0j, 1.5 + 2.5j
+    >>> (a2, b2, c2, o2, p2), (d3, c3, b3, o3, p3) = cognates(A, B, C, D, P)
+    >>> z = (P - B) / (C - B)
+    >>> [round(x, 12) for x in (abs(o2 - o3), abs(b2 - a2) - abs(z) * abs(C - B), abs(c2 - o2) - abs(z) * abs(C - D))]
+    [0.0, 0.0, 0.0]
+    """
+    z = (P - B) / (C - B)
+    O = A + z * (D - A)
+    w = 1 - z                                   # the same construction driven from D: P = C + w (B − C)
+    return [(A, A + (P - B), A + z * (C - A), O, P), (D, D + (P - C), D + w * (B - D), O, P)]
+
+
+def relation(f: Fit, g: Fit, tol: float) -> str:
+    """How ``g`` repeats ``f`` (one linkage, a cognate, a mirror image), or "" when it is another linkage."""
+    if f.mechanism is None or g.mechanism is None:
+        return ""
+    mine, other = _joints(f), _joints(g)
+    p, q, coupler = _sides(*other)
+
+    def close(x, y) -> bool:
+        return abs(x[0] - y[0]) <= tol and max(abs(x[1] - y[1]), abs(x[2] - y[2])) <= tol
+
+    def same(sides) -> bool:
+        s1, s2, b = sides
+        return abs(b - coupler) <= tol and ((close(s1, p) and close(s2, q)) or (close(s1, q) and close(s2, p)))
+
+    if same(_sides(*mine)):
+        if abs(other[0] - mine[3]) <= tol:
+            return "the same linkage driven from its other frame pivot (crank and rocker swapped)"
+        return "the same linkage (the other assembly mode or coupler side)"
+    for k, cog in enumerate(cognates(*mine)):
+        if same(_sides(*cog)):
+            return f"a Roberts-Chebyshev cognate (the same curve; it shares frame pivot {'AD'[k]})"
+    s1, s2, b = _sides(*mine)
+    shape = sorted([(s1[1], s1[2]), (s2[1], s2[2])])
+    other_shape = sorted([(p[1], p[2]), (q[1], q[2])])
+    if abs(b - coupler) <= tol and abs(abs(s1[0] - s2[0]) - abs(p[0] - q[0])) <= tol and \
+            all(abs(x - y) <= tol for u, v in zip(shape, other_shape) for x, y in zip(u, v)):
+        return "the same linkage placed otherwise (its mirror image or a turned copy: the path is symmetric)"
+    return ""
 
 
 def _same(f: Fit, g: Fit, size: float) -> bool:

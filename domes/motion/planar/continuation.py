@@ -93,6 +93,26 @@ class Continuation:
     def inputs(self, q):
         return {**self.fixed, self.joint: q}
 
+    def placed(self, q: float) -> float:
+        """``q`` as the walk from the drawn pose takes it. An angle more than a turn from the drawn one loses its
+        whole turns (a revolute joint's pose repeats every turn) and is refused where floats are farther apart
+        than the accuracy's ``locate``; a length more than :data:`FARTHEST` sizes from the drawn one is refused."""
+        if not math.isfinite(q):
+            raise InputError(f"input {self.joint} must be a finite number, got {q}")
+        if not self.angular:
+            if abs(q - self.q0) > FARTHEST * self.kin.size:
+                raise InputError(f"input {self.joint} = {q:.6g} is far outside {self.kin.mech.name} (size "
+                                 f"{self.kin.size:.4g}, drawn at {self.q0:.6g}): give a length within {FARTHEST:g} "
+                                 "sizes of the drawn one")
+            return q
+        if math.ulp(q) > self.locate:
+            raise InputError(f"input {self.joint} = {math.degrees(q):.6g}° is too large to mean an angle: floats there "
+                             f"are {math.degrees(math.ulp(q)):.3g}° apart, coarser than the accuracy "
+                             f"({math.degrees(self.locate):.3g}°); give an angle within a few turns")
+        if abs(q - self.q0) < 2 * math.pi:
+            return q
+        return self.q0 + math.fmod(q - self.q0, 2 * math.pi)
+
     def reach(self, state, qa, qb):
         """State at ``qb`` from the state at ``qa``, halving the step on failure (raises :class:`Stuck`)."""
         try:
@@ -131,6 +151,8 @@ class Continuation:
 
 #: The most steps a sweep takes (a grid of more would not fit in memory, nor finish).
 MAX_STEPS = 10_000_000
+#: A length input is refused beyond this many times the mechanism's size from its drawn value.
+FARTHEST = 100.0
 
 
 def grid_size(start: float, stop: float, step: float) -> int:

@@ -152,6 +152,17 @@ def _group_kind(mech: Mechanism, links, joints, driven) -> str:
     return f"class-{_class_of(mech, links, joints)}" if not (set(joints) & driven) else f"{len(links)}-link"
 
 
+def _overconstrained(mech: Mechanism, links, joints, constraints: int, driven) -> InputError:
+    """The error for links held by more constraints than they have freedoms once the known links are placed."""
+    inputs = [j.joint for j in mech.inputs]
+    what = (f"the inputs {', '.join(inputs)} are not independent: together they fix links {list(links)}, which then "
+            f"have {constraints} constraints for {3 * len(links)} freedoms, and leave another loop free (Yan ch. 3, the "
+            "active pairs of Fig. 3-19: each input must drive a loop of its own); choose inputs in different loops"
+            if len(inputs) > 1 and 3 * (len(mech.links) - 1) - 2 * len(mech.joints) == len(inputs) else
+            f"links {list(links)} have {constraints} constraints for {3 * len(links)} freedoms: redundant constraints")
+    return InputError(f"{mech.name}: {what}")
+
+
 def _class_of(mech: Mechanism, links, joints) -> str:
     """Assur class: the largest closed polygon formed by the group's own links (II for a dyad)."""
     inner = [mech.joint(j).links for j in joints if set(mech.joint(j).links) <= set(links)]
@@ -195,9 +206,11 @@ class Structure:
                 for cand in combinations(remaining, k):
                     s = set(cand)
                     js = [j for j in mech.joints if set(j.links) & s and set(j.links) <= s | known]
-                    if sum(3 if j.name in driven else 2 for j in js) == 3 * k and _connected(cand, js, known):
+                    constraints = sum(3 if j.name in driven else 2 for j in js)
+                    if constraints > 3 * k and method == "assur":
+                        raise _overconstrained(mech, cand, js, constraints, driven)
+                    if found is None and constraints == 3 * k and _connected(cand, js, known):
                         found = (cand, js)
-                        break
                 if found:
                     break
             if not found:

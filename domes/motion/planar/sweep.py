@@ -33,7 +33,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from domes.errors import NumericalError
+from domes.errors import InputError, NumericalError
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.arrays import Compiled, fine_grid, motion_many, outputs_many
 from domes.motion.planar.branches import Walker
@@ -77,7 +77,9 @@ class Sweep(Result):
     ``conditions`` show how good each step's numbers are; :attr:`steps`
     gives them as :class:`~domes.motion.planar.query.Step` objects.
     ``passed`` holds the branch points passed between the drawn pose and
-    ``start``.
+    ``start``. ``turns`` is how many whole turns were taken off the inputs
+    asked for (a revolute input more than a turn from its drawn value; its
+    pose repeats every turn): the inputs are those asked less ``turns`` turns.
     """
 
     joint: str
@@ -97,6 +99,7 @@ class Sweep(Result):
     fixed: dict = field(default_factory=dict)
     states: dict = field(default_factory=dict, repr=False)
     passed: tuple[DeadPoint, ...] = ()
+    turns: int = 0
 
     @property
     def steps(self) -> "Steps":
@@ -125,6 +128,8 @@ class Sweep(Result):
         branch = sum(d.kind is DeadPointKind.BIFURCATION for d in self.dead_points)
         if branch:
             text += f" ({branch} of them branch points)"
+        if self.turns:
+            text += f" ({self.turns:+,} whole turns taken off the inputs asked for)"
         stop = next((d for d in self.dead_points if d.stops), None)
         return text + (f"; stopped: {stop.message}" if self.status is Status.STOPPED and stop else "")
 
@@ -151,6 +156,11 @@ def solve(mech: Mechanism, q: float | None = None, outputs=None, order: int = 0,
           accuracy=None, joint: str | None = None, others: dict | None = None) -> Step:
     """One configuration at input ``q`` (default: the drawn pose), reached from the drawn pose by continuation.
 
+    An angle more than a turn from the drawn one is taken less its whole turns
+    (the step's inputs show the angle solved); inputs floats cannot place, or
+    lengths far outside the mechanism, are refused
+    (:meth:`~domes.motion.planar.continuation.Continuation.placed`).
+
     Raises :class:`~domes.errors.NumericalError` naming the group, joints and
     input when the input cannot be reached or the derivatives are
     undetermined (or not determined to the accuracy's ``derivatives``).
@@ -158,7 +168,7 @@ def solve(mech: Mechanism, q: float | None = None, outputs=None, order: int = 0,
     """
     kin = Kinematics(mech, outputs, order, method, accuracy)
     cont = Continuation(kin, joint, others)
-    q = cont.q0 if q is None else q
+    q = cont.q0 if q is None else cont.placed(q)
     state, passed = _reach(kin, cont, q)
     try:
         step = kin.at(cont.inputs(q), state)
@@ -176,7 +186,8 @@ def sweep(mech: Mechanism, start: float, stop: float, step: float | None = None,
     Angles in rad, lengths in the file's unit; ``step`` defaults to the
     accuracy's resolution (the ``accuracy`` knob: a preset name or an
     :class:`~domes.motion.planar.query.Accuracy`). Other inputs stay at their
-    drawn values (or ``others``).
+    drawn values (or ``others``). A ``start`` more than a turn from the drawn
+    angle is taken less its whole turns (``Sweep.turns``), and so is ``stop``.
     """
     kin = Kinematics(mech, outputs, order, method, accuracy)
     return run_sweep(kin, start, stop, step, joint, others, progress)
@@ -185,10 +196,18 @@ def sweep(mech: Mechanism, start: float, stop: float, step: float | None = None,
 def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None, progress: Progress | None = None) -> Sweep:
     """:func:`sweep` with a compiled query."""
     cont = Continuation(kin, joint, others)
+    placed = cont.placed(start)
+    turns = round((start - placed) / (2 * math.pi)) if placed != start else 0
+    start, stop = placed, placed + (stop - start)
+    cont.placed(stop)
+    walked = (abs(start - cont.q0) + abs(stop - start)) / cont.h
+    if walked > MAX_STEPS:
+        raise InputError(f"a sweep from {cont.fmt(start)} to {cont.fmt(stop)} walks from the drawn pose "
+                         f"({cont.fmt(cont.q0)}) in {walked:.3g} steps of the resolution {cont.fmt(cont.h)}, more than "
+                         f"{MAX_STEPS:,}: sweep a shorter range, nearer the drawn pose")
     qs = grid(start, stop, step or cont.h)
-    if vectorizable(kin):
-        return _vector_sweep(kin, cont, qs, progress)
-    return _scalar_sweep(kin, cont, qs, progress)
+    sw = _vector_sweep(kin, cont, qs, progress) if vectorizable(kin) else _scalar_sweep(kin, cont, qs, progress)
+    return replace(sw, turns=turns) if turns else sw
 
 
 def _reach(kin, cont, q):

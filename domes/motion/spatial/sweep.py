@@ -1,7 +1,8 @@
 """Sweeps of a spatial mechanism's input with continuity: each pose continues the last, limits located.
 
 The walk starts at the drawn pose (every joint variable 0) and goes by at
-most ``step`` to ``start``, then through the grid to ``stop``. A step that
+most ``step`` to ``start`` (an angle more than a turn away less its whole
+turns: the pose repeats every turn), then through the grid to ``stop``. A step that
 Newton's method cannot take, or that jumps (a link turning by more than
 :data:`JUMP` rad, or moving by more than ``JUMP`` times the size: another
 assembly mode), is halved down to ``locate``; there the sweep stops and
@@ -33,6 +34,8 @@ JUMP = 0.75
 LOCATE = 1e-10
 #: The most steps of one sweep.
 MAX_STEPS = 1_000_000
+#: A length input is refused beyond this many times the mechanism's size from its drawn value (0).
+FARTHEST = 100.0
 
 
 @dataclass(frozen=True)
@@ -46,7 +49,8 @@ class Limit:
 
 @dataclass(frozen=True, eq=False)
 class SpatialSweep(Result):
-    """Outputs over the steps (columns of ``table``), with residuals, condition numbers and the limit met."""
+    """Outputs over the steps (columns of ``table``), with residuals, condition numbers and the limit met;
+    ``turns``: the whole turns taken off the inputs asked for (an angle more than a turn from the drawn pose)."""
 
     mechanism: str
     joint: str
@@ -58,6 +62,7 @@ class SpatialSweep(Result):
     limit: Limit | None = None
     angular: bool = True
     states: list = field(default_factory=list, repr=False)
+    turns: int = 0
 
     @property
     def message(self) -> str:
@@ -66,6 +71,8 @@ class SpatialSweep(Result):
         text = (f"{self.status}: input {self.joint} swept {f(self.inputs[0]):.6g}{u} .. {f(self.inputs[-1]):.6g}{u} "
                 f"in {self.inputs.size} steps, max residual {np.max(self.residuals):.2g}, max condition "
                 f"{np.max(self.conditions):.3g}")
+        if self.turns:
+            text += f" ({self.turns:+,} whole turns taken off the inputs asked for)"
         return text + (f"; stopped: {self.limit.message}" if self.limit else "")
 
 
@@ -77,6 +84,46 @@ def _distance(a: State, b: State) -> float:
         sine = 0.5 * math.sqrt((D[2, 1] - D[1, 2]) ** 2 + (D[0, 2] - D[2, 0]) ** 2 + (D[1, 0] - D[0, 1]) ** 2)
         out = max(out, math.atan2(sine, (np.trace(D) - 1) / 2))
     return out
+
+
+#: How closely a limit is located where the mechanism has a closed form (rad): the root of its discriminant.
+EXACT = 1e-13
+#: How far beyond the walk's last pose the closed form looks for the limit (rad).
+BEYOND = 0.05
+
+
+def _closed_form(mech: SpatialMechanism):
+    """The RSSR closed form of ``mech`` (seed 001) when it is one, else None."""
+    from domes.motion.spatial.rssr import RSSR
+
+    try:
+        return RSSR.of(mech)
+    except (InputError, StopIteration, ValueError):
+        return None
+
+
+def _limit(closed, q: float, dq: float, why: str, joint: str, angular: bool, locate: float) -> Limit:
+    """The limit met by a walk that cannot go from ``q`` by ``dq``: located by the walk to ``locate``, or, for a
+    mechanism with a closed form, the root of its discriminant beyond ``q`` (bracketed, then Brent's method),
+    and where the closed form says the linkage assembles on, a walk that stopped at a near-singular pose."""
+    if closed is None or not angular:
+        return Limit(q, "limit", f"{joint} cannot go beyond {_fmt(q, angular)} ({why}; located to "
+                                 f"{_fmt(locate, angular)})")
+    from scipy.optimize import brentq
+
+    direction = math.copysign(1.0, dq)
+    d = closed.discriminant
+    near, far = 0.0, 1e-12
+    while far <= BEYOND and float(d(q + direction * far)) >= 0:
+        near, far = far, 2 * far
+    if far > BEYOND:
+        return Limit(q, "stuck", f"{joint}: the walk stops at {_fmt(q, angular)} ({why}) though the linkage "
+                                 f"assembles beyond it (its closed form, seed 001): a near-singular pose, where the "
+                                 f"two assembly modes nearly meet; try a smaller --step")
+    root = brentq(lambda x: float(d(q + direction * x)), near, far, xtol=EXACT, rtol=4 * np.finfo(float).eps)
+    return Limit(q + direction * root, "limit",
+                 f"{joint} cannot go beyond {_fmt(q + direction * root, angular)} (no assembly; the root of the RSSR's "
+                 f"closed form, located to {_fmt(EXACT, angular)})")
 
 
 def _predict(kin: Loops, s: State, joint: str, dq: float) -> tuple[State, float]:
@@ -100,15 +147,26 @@ def spatial_sweep(mech: SpatialMechanism, start: float, stop: float, step: float
     h = abs(step) if step else (math.radians(1.0) if angular else 0.01 * mech.size)
     if not (math.isfinite(start) and math.isfinite(stop) and h > 0):
         raise InputError("sweep: start, stop and step must be finite numbers, step > 0")
+    locate = LOCATE if angular else LOCATE * mech.size
+    placed = _placed(start, angular, locate, mech, joint)
+    turns = round((start - placed) / (2 * math.pi)) if placed != start else 0
+    start, stop = placed, placed + (stop - start)
+    _placed(stop, angular, locate, mech, joint)
+    resolution = min(h, math.radians(1.0) if angular else 0.01 * mech.size)
+    walked = (abs(start) + abs(stop - start)) / resolution
+    if walked > MAX_STEPS:
+        raise InputError(f"sweep: from the drawn pose to {_fmt(start, angular)} and on to {_fmt(stop, angular)} is "
+                         f"{walked:.3g} steps of {_fmt(resolution, angular)}, more than {MAX_STEPS:,}: sweep a "
+                         "shorter range, nearer the drawn pose")
     n = int(math.floor(abs(stop - start) / h + 1e-9)) + 1
     if n > MAX_STEPS:
         raise InputError(f"sweep: {n:,} steps; at most {MAX_STEPS:,}")
     grid = start + math.copysign(h, stop - start) * np.arange(n)
     if abs(grid[-1] - stop) > 1e-9 * max(1.0, abs(stop)):
         grid = np.append(grid, stop)
-    locate = LOCATE if angular else LOCATE * mech.size
     others = {j: 0.0 for j in inputs if j != joint}
     state = kin.drawn()
+    closed = _closed_form(mech)
 
     def take(q_from, q_to, s):
         """Walk from ``q_from`` (state ``s``) to ``q_to``; the state there, or the Limit met."""
@@ -130,8 +188,7 @@ def spatial_sweep(mech: SpatialMechanism, start: float, stop: float, step: float
                 except NumericalError:
                     why = "no assembly"
                 if abs(dq) <= locate:
-                    return None, Limit(q, "limit", f"{joint} cannot go beyond {_fmt(q, angular)} ({why}; located to "
-                                                   f"{_fmt(locate, angular)})")
+                    return None, _limit(closed, q, dq, why, joint, angular, locate)
                 dq /= 2
             q, s = target, nxt
             size = min(h, 2 * abs(dq))  # after a halved step, grow back gradually
@@ -169,7 +226,22 @@ def spatial_sweep(mech: SpatialMechanism, start: float, stop: float, step: float
         if c.startswith("angle:") and not c.endswith("'"):
             table[c] = np.unwrap(table[c])
     return SpatialSweep(mech.name, joint, np.array(reached), table, np.array(residuals), np.array(conditions),
-                        Status.STOPPED if limit else Status.COMPLETE, limit, angular, states)
+                        Status.STOPPED if limit else Status.COMPLETE, limit, angular, states, turns)
+
+
+def _placed(q: float, angular: bool, locate: float, mech: SpatialMechanism, joint: str) -> float:
+    """``q`` as the walk from the drawn pose (0) takes it: an angle more than a turn away less its whole turns, refused
+    where floats are farther apart than ``locate``; a length refused beyond :data:`FARTHEST` sizes."""
+    if not angular:
+        if abs(q) > FARTHEST * mech.size:
+            raise InputError(f"input {joint} = {q:.6g} is far outside {mech.name} (size {mech.size:.4g}): give a "
+                             f"length within {FARTHEST:g} sizes of the drawn pose")
+        return q
+    if math.ulp(q) > locate:
+        raise InputError(f"input {joint} = {math.degrees(q):.6g}° is too large to mean an angle: floats there are "
+                         f"{math.degrees(math.ulp(q)):.3g}° apart, coarser than the accuracy "
+                         f"({math.degrees(locate):.3g}°); give an angle within a few turns")
+    return q if abs(q) < 2 * math.pi else math.fmod(q, 2 * math.pi)
 
 
 def _fmt(q: float, angular: bool) -> str:
