@@ -28,9 +28,21 @@ def nauty_graph(n: int, edges: Iterable[Edge], coloring: Sequence[set[int]] = ()
     return pynauty.Graph(n, adjacency_dict=adjacency, vertex_coloring=list(coloring))
 
 
+def nauty(call, graph: pynauty.Graph):
+    """``call(graph)``, a pynauty function. A Ctrl-C that arrives while pynauty reads the graph's attributes
+    reaches Python as ``TypeError: missing 'adjacency_dict' attribute`` (the interrupt replaced by pynauty's
+    own error); it is raised again as the KeyboardInterrupt it is, so that a run stops cleanly."""
+    try:
+        return call(graph)
+    except TypeError as exc:
+        if str(exc).startswith("missing '") and str(exc).endswith("' attribute"):
+            raise KeyboardInterrupt from None
+        raise
+
+
 def certificate(n: int, edges: Iterable[Edge]) -> bytes:
     """nauty's certificate: equal for two graphs exactly when they are isomorphic."""
-    return pynauty.certificate(nauty_graph(n, edges))
+    return nauty(pynauty.certificate, nauty_graph(n, edges))
 
 
 def canonical_form(n: int, edges: Iterable[Edge]) -> tuple[bytes, tuple[Edge, ...]]:
@@ -40,10 +52,10 @@ def canonical_form(n: int, edges: Iterable[Edge]) -> tuple[bytes, tuple[Edge, ..
     ((0, 2), (1, 2))
     """
     graph = nauty_graph(n, edges)
-    order = pynauty.canon_label(graph)  # canonical vertex i is original vertex order[i]
+    order = nauty(pynauty.canon_label, graph)  # canonical vertex i is original vertex order[i]
     position = {v: i for i, v in enumerate(order)}
     relabelled = tuple(sorted(tuple(sorted((position[u], position[v]))) for u, v in edges))
-    return pynauty.certificate(graph), relabelled
+    return nauty(pynauty.certificate, graph), relabelled
 
 
 @dataclass(frozen=True)
@@ -97,7 +109,7 @@ class Automorphisms:
 
 def automorphisms(n: int, edges: Iterable[Edge], coloring: Sequence[set[int]] = ()) -> Automorphisms:
     """The automorphism group (preserving vertex colour classes, if given)."""
-    generators, mantissa, exponent, orbits, _ = pynauty.autgrp(nauty_graph(n, edges, coloring))
+    generators, mantissa, exponent, orbits, _ = nauty(pynauty.autgrp, nauty_graph(n, edges, coloring))
     order = round(mantissa * 10**exponent)
     first: dict[int, int] = {}
     for v, o in enumerate(orbits):

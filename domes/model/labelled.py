@@ -32,7 +32,7 @@ import networkx as nx
 import pynauty
 
 from domes.errors import DomesError, InputError
-from domes.model.canon import Automorphisms
+from domes.model.canon import Automorphisms, nauty
 from domes.model.topology import Topology
 
 Edge = tuple[int, int]
@@ -173,7 +173,7 @@ class LabelledChain:
     def automorphisms(self) -> Automorphisms:
         """Label-preserving automorphisms (roles and joint types kept), acting on the links."""
         graph, _ = self._coloured()
-        generators, mantissa, exponent, orbits, _ = pynauty.autgrp(graph)
+        generators, mantissa, exponent, orbits, _ = nauty(pynauty.autgrp, graph)
         first: dict[int, int] = {}
         for v, o in enumerate(orbits[: self.n]):
             first.setdefault(o, v)
@@ -379,7 +379,7 @@ class LabelledChain:
         Named loops are not part of the identity.
         """
         graph, key = self._coloured()
-        return key, pynauty.certificate(graph)
+        return key, nauty(pynauty.certificate, graph)
 
     def _coloured(self) -> tuple[pynauty.Graph, tuple]:
         """The nauty graph: links coloured by role set, joints as vertices coloured by type."""

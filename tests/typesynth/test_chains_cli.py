@@ -114,6 +114,23 @@ def test_ctrl_c_stops_cleanly():
     assert "interrupted" in err and "Traceback" not in err and out == ""
 
 
+def test_an_interrupt_inside_nauty_is_an_interrupt():
+    # A SIGINT that lands while pynauty reads the graph came out as "TypeError: missing 'adjacency_dict' attribute"
+    # and a traceback (seen once in CI in test_ctrl_c_stops_cleanly); it is the KeyboardInterrupt it replaced.
+    from domes.model.canon import nauty
+
+    def interrupted(graph):
+        raise TypeError("missing 'adjacency_dict' attribute")
+
+    def wrong(graph):
+        raise TypeError("something else")
+
+    with pytest.raises(KeyboardInterrupt):
+        nauty(interrupted, None)
+    with pytest.raises(TypeError, match="something else"):
+        nauty(wrong, None)
+
+
 @pytest.mark.parametrize("answer, built", [("n", False), ("yes", True)])
 def test_large_atlas_confirmation_on_a_terminal(monkeypatch, answer, built):
     from domes.cli import chains as cli
