@@ -296,7 +296,7 @@ def test_damaged_task_values_are_named_never_a_traceback():
 EXAMPLE_5 = [(1.0, 1.0), (2.0, 0.5), (3.0, 1.5), (2.0, 2.0), (1.5, 1.9)]
 
 
-def test_example_5_every_real_solution_s06_s07():
+def test_example_5_every_real_solution_s06_s07(monkeypatch):
     # seed 002 §2-3 Example 5 (five path points, a0 and b0 given): the book's solution (digest S-06, with the
     # coupler rotations), the three other real solutions the digest lists (S-07), and the count, the same on a
     # grid four times finer (an independent resolution of the same search).
@@ -316,6 +316,10 @@ def test_example_5_every_real_solution_s06_s07():
     assert has((2.0806, 1.8528), (2.5308, 0.4913))
     finer = five_points(EXAMPLE_5, (2.10, 0.60), (1.50, 4.20), grid=2880)
     assert len(finer) == len(sols) >= 4
+    # leaving out far moving pivots (the runaway roots of points in line) leaves out no real root here: one
+    # moving pivot lies 43 from the origin, 11 times the task's size
+    monkeypatch.setattr("domes.design.synthesis.path.REACH", math.inf)
+    assert len(five_points(EXAMPLE_5, (2.10, 0.60), (1.50, 4.20))) == len(sols)
     result = synthesize(task_from_dict({"kind": "path", "points": [list(p) for p in EXAMPLE_5],
                                         "a0": [2.1, 0.6], "b0": [1.5, 4.2]}))
     assert result.roots == len(sols)

@@ -37,7 +37,7 @@ from domes.results import Progress, Ticker
 GRID = 720
 
 #: Moving pivots farther than this many times the size of the points and fixed pivots from their centre are left out.
-REACH = 10.0
+REACH = 20.0
 
 
 @dataclass(frozen=True)
