@@ -42,8 +42,8 @@ from domes.motion.coupler.fourier import features
 from domes.results import Progress
 
 TABLES = {"closed": AtlasTable, "open": WindowTable}
-#: The temporary file of an atlas being written, beside it: ``.atlas-PID-XXXXXXXX.h5`` (PID: the writer's process;
-#: files of older versions have none: ``.atlas-XXXXXXXX.h5``).
+#: The temporary file of an atlas being written, beside it: ``.atlas-PID-RANDOM.h5`` (PID: the writer's process,
+#: RANDOM: the letters mkstemp chose; files of older versions have no PID: ``.atlas-RANDOM.h5``).
 TEMPORARY = re.compile(r"^\.atlas-(?:(\d+)-)?[A-Za-z0-9_]+\.h5$")
 log = logging.getLogger("domes")
 #: Rows per compressed chunk.

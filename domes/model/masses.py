@@ -25,6 +25,7 @@ from typing import Mapping
 
 from domes.errors import InputError
 from domes.model.fields import check_keys as _keys
+from domes.model.fields import read_list as _list
 from domes.model.fields import read_number as _finite
 from domes.model.fields import read_xy as _xy
 
@@ -189,12 +190,6 @@ def _positive(value, where: str) -> float:
     if x <= 0:
         raise InputError(f"{where}: must be > 0, got {value!r}")
     return x
-
-
-def _list(value, where: str) -> list:
-    if not isinstance(value, list):
-        raise InputError(f"{where}: expected a list")
-    return value
 
 
 __all__ = ["Load", "LinkMass", "MassModel", "Spring"]
