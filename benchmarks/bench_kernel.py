@@ -44,7 +44,7 @@ STEPS = 3600
 FAR_JOINT = {"four-bar.json": "C", "watt-six-bar.json": "f", "stephenson-six-bar.json": "G"}
 
 
-def _median_time(fn, repeat):
+def median_time(fn, repeat):
     fn()
     times = []
     for _ in range(repeat):
@@ -84,7 +84,7 @@ def sweeps(repeat):
         outputs = [o.name for o in parse_outputs(m, None)] + [f"point:{point}"]  # all outputs and the far joint
         for order in (0, 2):
             kin = Kinematics(m, outputs, order)
-            t, sw = _median_time(lambda: run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS), repeat)
+            t, sw = median_time(lambda: run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS), repeat)
             pts = np.c_[sw.column(f"point:{point}.x"), sw.column(f"point:{point}.y")]
             rows.append((name, "domes", order, t, sw.max_residual, _error(pts, refs, m.size), len(sw.dead_points)))
         for peer, fn in PEERS.items():
@@ -128,7 +128,7 @@ def _row(coords, m):
 def batches(count, repeat, peer_sample):
     coords = random_four_bars(count)
     qs = np.radians(np.arange(360.0))
-    t, b = _median_time(lambda: batch(four_bar_template(), coords, qs, outputs=["point:P"]), repeat)
+    t, b = median_time(lambda: batch(four_bar_template(), coords, qs, outputs=["point:P"]), repeat)
     # Error: 12 complete rows × every 30th input against the reference.
     worst = 0.0
     for m in np.flatnonzero(b.kinds == "complete")[:12]:

@@ -33,6 +33,8 @@ SUBCOMMAND_MODULES = (
     "domes.cli.dynamics",
     "domes.cli.curves",
     "domes.cli.synthesize",
+    "domes.cli.cam",
+    "domes.cli.catalogue",
     "domes.cli.draw",
     "domes.cli.design",
 )

@@ -124,7 +124,8 @@ def run_chains(args: argparse.Namespace) -> int:
     if links >= LARGE_ATLAS_LINKS:
         _confirm_large(links, args.dof, args.include_fractionated, args.yes,
                        0 if args.scheduler or os.environ.get(SCHEDULER_VARIABLE) else args.workers or 1)
-    with executor(args.workers, args.scheduler) as run:
+    rerun = None if job is None else f"run the same command again ({args.out} keeps every finished slice)"
+    with executor(args.workers, args.scheduler, rerun) as run:
         generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress),
                                    executor=None if isinstance(run, InProcess) else run, checkpoints=job)
         graphs = generator.chains(links, args.dof, args.include_fractionated)

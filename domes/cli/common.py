@@ -16,20 +16,26 @@ import sys
 
 from domes.errors import InputError
 from domes.execution import SCHEDULER_VARIABLE
+from domes.execution.watch import WORKER_TIMEOUT, WORKER_TIMEOUT_VARIABLE
 from domes.io.files import write_atomic
 from domes.results import Progress, Ticker
 from domes.store.casebase import DB_ENV
 
+#: Without a terminal (a log, a pipe), progress is one line per this many seconds at most: a long run says it is
+#: alive, a short one says nothing.
+LOG_EVERY = 5.0
+
 
 def progress_printer(enabled: bool | None = None, every: float = 0.0) -> Progress | None:
-    """A progress callback printing ``... message`` on stderr; by default only when stderr is a terminal.
+    """A progress callback printing ``... message`` on stderr: by default (None) as it comes on a terminal and one
+    line every :data:`LOG_EVERY` seconds elsewhere; True: always as it comes; False: never.
 
     ``every``: at most one line per that many seconds (the others are dropped), for a log rather than a terminal.
     """
-    if enabled is None:
-        enabled = sys.stderr.isatty()
-    if not enabled:
+    if enabled is False:
         return None
+    if enabled is None and not sys.stderr.isatty():
+        every = max(every, LOG_EVERY)
     show = lambda message: print(f"... {message}", file=sys.stderr, flush=True)          # noqa: E731
     if every <= 0:
         return show
@@ -46,7 +52,8 @@ def parallel_options(parser: argparse.ArgumentParser, what: str) -> None:
     """``--workers N`` and ``--scheduler ADDRESS`` (see :mod:`domes.execution`): where ``what`` runs."""
     parser.add_argument("--workers", type=int, default=None, metavar="N",
                         help=f"{what} on a local Dask cluster of N worker processes (default: in this process; the "
-                        "result is the same)")
+                        f"result is the same); a run with no worker alive for ${WORKER_TIMEOUT_VARIABLE} seconds "
+                        f"(default {WORKER_TIMEOUT:g}) stops and says so")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help=f"{what} on an existing Dask cluster, e.g. tcp://host:8786 (default: "
                         f"${SCHEDULER_VARIABLE} if set)")

@@ -251,7 +251,7 @@ def run_atlas(args) -> int:
     if args.size == "large":
         confirm("curves atlas build", "the large atlas takes a few minutes and a few hundred MB", args.yes)
     make = build_windows if args.open else build
-    with executor(args.workers, args.scheduler) as run:
+    with executor(args.workers, args.scheduler, progress=progress) as run:        # its tasks said as they finish
         table = make(SIZES[args.size], progress, None if isinstance(run, InProcess) else run)
         ran_on = run.where
     if not args.file:

@@ -57,14 +57,15 @@ def run_spatial(args: argparse.Namespace) -> int:
 
     rows = [{"input": from_in(float(q)), **{c: shown(c, float(sw.table[c][k])) for c in columns},
              "residual": float(sw.residuals[k]), "condition": float(sw.conditions[k])} for k, q in enumerate(sw.inputs)]
-    limit = None if sw.limit is None else {"input": from_in(sw.limit.input), "kind": sw.limit.kind,
-                                           "message": sw.limit.message}
+    limit = None if sw.limit is None else {"input": from_in(sw.limit.input), "within": from_in(sw.limit.within),
+                                           "kind": sw.limit.kind, "message": sw.limit.message}
+    singular = [from_in(q) for q in sw.singular]
     out = sys.stdout
     if args.format == "json":
         doc = {"mechanism": mech.name, "file": args.file, "space": "spatial", "input": joint, "variable": variable,
                "angle_unit": args.angles, "order": args.order, "idle": mech.idle, "status": str(sw.status),
-               "turns": sw.turns,
-               "max_residual": float(max(sw.residuals)), "limit": limit, "steps": rows}
+               "turns": sw.turns, "max_residual": float(max(sw.residuals)), "limit": limit, "singular": singular,
+               "steps": rows}
         json.dump(finite_json(doc), out, indent=1)
         out.write("\n")
         return 0
@@ -78,6 +79,8 @@ def run_spatial(args: argparse.Namespace) -> int:
             writer.writerow([repr(r[h]) for h in header])
         if limit:
             print(f"# {limit['kind']} at input {limit['input']:.12g}: {limit['message']}", file=sys.stderr)
+        for q in singular:
+            print(f"# singular at input {q:.12g}: velocities not determined (NaN)", file=sys.stderr)
         sys.stderr.write(turned)
         return 0
     unit = ("deg" if deg else "rad") if angular else "length"
@@ -89,6 +92,8 @@ def run_spatial(args: argparse.Namespace) -> int:
         out.write("  ".join(f"{r[h]:16.10g}" for h in header) + "\n")
     out.write(f"# status: {sw.status}; input {joint} ({unit}) swept {from_in(sw.inputs[0]):.10g} .. "
               f"{from_in(sw.inputs[-1]):.10g}; max residual {max(sw.residuals):.2g}\n")
+    for q in singular:
+        out.write(f"# singular at input {q:.12g}: velocities not determined (NaN)\n")
     if limit:
         out.write(f"# {limit['kind']} at input {limit['input']:.12g}: {limit['message']}\n")
     return 0

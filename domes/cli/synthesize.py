@@ -4,7 +4,7 @@
 >>> main(["synthesize", "examples/synthesis/ch2-example-4.json"])         # doctest: +ELLIPSIS
 # complete: ch2-example-4: 1 real root(s), 1 linkage(s), 1 usable; ... ms
 1. usable; crank 0.63234, coupler 0.342974, rocker 0.652519, frame 1; non-Grashof (triple rocker); ...
-   pivots A (0, 0), D (1, 0); moving pivots B (0.346046, 0.52925), C (0.375, 0.1875); largest residual ...
+   pivots A (0, 0), D (1, 0); moving pivots B (0.346046, 0.52925), C (0.375, 0.1875); largest error ...
    inversion (2-109) and Freudenstein's equation agree on the lengths to ...
 0
 """
@@ -18,10 +18,10 @@ import sys
 
 from domes.cli.common import finite_json, parallel_options, progress_printer, write_output
 from domes.design.synthesis import synthesize
-from domes.design.synthesis.candidate import Dimensioning
+from domes.design.synthesis.candidate import CurveTask, Dimensioning
 from domes.design.synthesis.fourbars import SliderCrank
 from domes.design.synthesis.solve import generator_fourbar
-from domes.design.synthesis.task import min_transmission
+from domes.design.synthesis.task import link_ratio, min_transmission, relative_tolerance
 from domes.errors import InputError
 from domes.execution import InProcess, executor
 from domes.io.files import check_target
@@ -40,7 +40,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "positions (guidance: 3 positions in closed form, 4 on the circle-point curve, 5 at the Burmester "
         "points; function generation: 3, 4 or 5 precision points, with the structural error over the range and "
         "optional re-spacing; path generation: five points with both fixed pivots given), each checked (branch, "
-        "order and dead-point defects, Grashof class, transmission angle) and "
+        "order and dead-point defects, Grashof class, transmission angle; every one moved by the kinematics kernel "
+        "through the crank angles it claims, usable only within --tolerance; degenerate roots grouped) and "
         "written as a mechanism file for domes kinematics and domes draw. A 'curve' task dimensions the labelled "
         "candidates of a scene by least squares against a wanted curve (a motorcycle's leverage ratio). See "
         "docs/synthesis.md.",
@@ -57,6 +58,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="warn of a usable linkage whose smallest transmission angle is below DEG and rank it after "
                    "the others (default: the task's min_transmission_deg, else 20); for a curve task, the limit "
                    "its layouts are fitted to and verified against")
+    p.add_argument("--tolerance", type=float, metavar="REL", default=None,
+                   help="largest error of a usable linkage, re-evaluated by the kinematics kernel, relative to the "
+                   "task's size (default: the task's tolerance, else 1e-6); for a curve task, its wanted.tolerance")
+    p.add_argument("--max-link-ratio", type=float, metavar="R", default=None,
+                   help="group roots whose longest link is more than R times the task's extent as degenerate "
+                   "(default: the task's max_link_ratio, else 20)")
     p.add_argument("--quiet", "-q", action="store_true",
                    help="no progress lines on stderr (shown by default: on a terminal as the search goes, "
                    "elsewhere one every few seconds)")
@@ -73,10 +80,18 @@ def run(args) -> int:
     task = load_task(args.task)
     if args.min_transmission is not None:
         min_transmission(args.min_transmission, "--min-transmission")
+    if args.tolerance is not None:
+        relative_tolerance(args.tolerance, "--tolerance")
+    if args.max_link_ratio is not None:
+        if isinstance(task, CurveTask):
+            raise InputError("--max-link-ratio is for guidance, function and path tasks; a curve task's lengths are "
+                             "bounded by its box and limits")
+        link_ratio(args.max_link_ratio, "--max-link-ratio")
     with executor(args.workers, args.scheduler) as run_on:
         result = synthesize(task, args.method, args.seeds, progress=_progress(args),
                             executor=None if isinstance(run_on, InProcess) else run_on,
-                            min_transmission_deg=args.min_transmission)
+                            min_transmission_deg=args.min_transmission, tolerance=args.tolerance,
+                            max_link_ratio=args.max_link_ratio)
     if args.format == "html":
         text = synthesis_html(result, task)
     elif isinstance(result, Dimensioning):
@@ -98,7 +113,8 @@ def _solution_dict(s, name):
     out = {"mechanism": s.fourbar.mechanism(name).to_dict(), "usable": s.usable, "defects": list(s.defects),
            "warnings": list(s.warnings),
            "lengths": s.fourbar.named_lengths(),
-           "residuals": list(s.residuals), "grashof": s.checks.grashof, "crank_rotates": s.checks.crank_rotates,
+           "residuals": list(s.residuals), "equation_residuals": list(s.equation_residuals),
+           "grashof": s.checks.grashof, "crank_rotates": s.checks.crank_rotates,
            "min_transmission_deg": s.checks.min_transmission_deg,
            "crank_angles_deg": list(s.checks.crank_angles_deg), "notes": list(s.notes)}
     if s.structural is not None:
@@ -119,10 +135,12 @@ def _generator_mechanism(g, name):
 def _json(result) -> str:
     data = {"task": result.task_name, "kind": result.kind, "status": str(result.status), "message": result.message,
             "roots": result.roots, "seconds": result.seconds, "notes": list(result.notes),
-            "min_transmission_deg": result.min_transmission_deg,
+            "min_transmission_deg": result.min_transmission_deg, "tolerance": result.tolerance,
+            "max_link_ratio": result.max_link_ratio, "size": result.size,
+            "degenerate": [{"group": g.name, "count": g.count, "text": g.text} for g in result.degenerate],
             "solutions": [_solution_dict(s, f"{result.task_name} solution {k}")
                           for k, s in enumerate(result.solutions, 1)]}
-    return json.dumps(data, indent=1) + "\n"
+    return json.dumps(finite_json(data), indent=1) + "\n"
 
 
 def _fmt(p) -> str:
@@ -143,7 +161,8 @@ def _text(result, everything: bool) -> str:
         fixed = (f"slide through C at {math.degrees(fb.direction):.6g}°" if isinstance(fb, SliderCrank)
                  else f"D {_fmt(fb.b0)}")
         lines.append(f"   pivots A {_fmt(fb.a0)}, {fixed}; moving pivots B {_fmt(fb.a1)}, C {_fmt(fb.b1)}; "
-                     f"largest residual {s.residual:.1e}")
+                     f"largest error {s.residual:.1e} ({_measure(result.kind, s)}; equations "
+                     f"{max(s.equation_residuals, default=0.0):.1e})")
         for warning in s.warnings:
             lines.append(f"   warning: {warning}")
         for note in s.notes:
@@ -156,6 +175,15 @@ def _text(result, everything: bool) -> str:
     if not everything and len(result.usable) < len(result.solutions):
         lines.append(f"# {len(result.solutions) - len(result.usable)} rejected solution(s) not shown (--all lists them)")
     return "\n".join(lines) + "\n"
+
+
+def _measure(kind: str, s) -> str:
+    """What a solution's errors are: the kinematics kernel's re-evaluation of the task."""
+    if s.claim is not None and s.claim.on_curve:
+        return "kernel: distance of the points from the coupler curve"
+    return {"path": "kernel: distance of the coupler point from each point",
+            "guidance": "kernel: pose error at each position",
+            "function": "kernel: rocker pin from its wanted place"}[kind]
 
 
 def _curve_dict(s) -> dict:

@@ -25,13 +25,25 @@ import numpy as np
 
 from domes.cli.common import parallel_options, progress_printer, write_document
 from domes.cli.kinematics import parse_sweep
-from domes.design.tolerance import DISTRIBUTIONS, MAX_INPUTS, Tolerancing, compare, monte_carlo, sensitivity
+from domes.design.tolerance import (
+    DISTRIBUTIONS,
+    MAX_INPUTS,
+    REASONS,
+    Tolerancing,
+    compare,
+    largest,
+    monte_carlo,
+    sensitivity,
+)
 from domes.errors import InputError
 from domes.execution import InProcess, executor
 from domes.io.mechanisms import load_mechanism
 
 #: Monte Carlo and first order agree when their standard deviations are this close (the issue's 5%).
 AGREE = 0.05
+#: What the table says after a row where first order is not valid, by the reason's key.
+SHORT = {"singular": "dead point (singular)", "reach": "the tolerances reach a dead point",
+         "unmade": "a link cannot be made", "nonlinear": "not linear over the tolerances"}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -58,6 +70,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="normal: σ = T/3 (default); uniform: anywhere within ± T")
     p.add_argument("--samples", type=int, default=100_000, help="Monte Carlo samples (default 100000; 0: first order only)")
     p.add_argument("--seed", type=int, default=0, help="Monte Carlo seed (default 0): the same seed, the same numbers")
+    p.add_argument("--spec", type=float, metavar="ERROR",
+                   help="count the Monte Carlo samples whose output is off by more than ± ERROR at some input "
+                   "(degrees for an angle; a point: by that distance) as out of spec")
     p.add_argument("--allocate", type=float, metavar="ACCURACY",
                    help="suggest tolerances that keep the output's 3σ (uniform: worst case) within ACCURACY "
                    "(degrees for an angle)")
@@ -115,12 +130,15 @@ def run(args: argparse.Namespace) -> int:
     first = sensitivity(tol, args.distribution)
     scale = math.degrees(1.0) if args.output.startswith("angle:") else 1.0
     allocated = first.allocate(args.allocate / scale) if args.allocate is not None else None
+    if args.spec is not None and not (math.isfinite(args.spec) and args.spec > 0):
+        raise InputError(f"--spec must be a positive number (the largest error accepted), got {args.spec}")
     mc = scan = None
     with executor(args.workers, args.scheduler) as run_on:
         where = None if isinstance(run_on, InProcess) else run_on
         if args.samples >= 2:
             mc = monte_carlo(tol, args.samples, args.seed, args.distribution, executor=where,
-                             progress=progress_printer(args.progress))
+                             progress=progress_printer(args.progress),
+                             spec=None if args.spec is None else args.spec / scale)
         if args.scan:
             scan = compare(tol, samples=min(args.samples, 20_000) or 20_000, seed=args.seed,
                            distribution=args.distribution, executor=where)
@@ -145,7 +163,7 @@ def _rows(doc: dict):
 def _document(args, tol, first, mc, scan, allocated, scale, joint, angular) -> dict:
     unit = "deg" if scale != 1.0 else "length"
     dims = []
-    slope = np.nanmax(np.abs(first.gradient), axis=(0, 1))
+    slope = largest(np.abs(first.gradient), axis=(0, 1))
     for k, d in enumerate(tol.dimensions):
         row = {"name": d.name, "kind": d.kind, "nominal": d.nominal if d.kind != "angle" else math.degrees(d.nominal),
                "tolerance": d.tolerance if d.kind != "angle" else math.degrees(d.tolerance),
@@ -160,35 +178,68 @@ def _document(args, tol, first, mc, scan, allocated, scale, joint, angular) -> d
         for n, q in enumerate(tol.inputs):
             row = {"column": col, "input": math.degrees(q) if angular else float(q),
                    "nominal": float(first.nominal[c, n] * scale), "worst_case": float(first.worst[c, n] * scale),
-                   "three_sigma_first_order": float(3 * first.std[c, n] * scale)}
+                   "three_sigma_first_order": float(3 * first.std[c, n] * scale),
+                   "three_sigma_second_order": float(3 * first.second[c, n] * scale),
+                   "first_order_valid": not first.notes[n], "first_order_note": first.notes[n]}
             if mc is not None:
                 row.update({"three_sigma_monte_carlo": float(3 * mc.std[c, n] * scale),
+                            "three_sigma_monte_carlo_error": float(3 * mc.std_error[c, n] * scale),
                             "largest_monte_carlo": float(mc.largest[c, n] * scale),
                             "mean_monte_carlo": float(mc.mean[c, n] * scale)})
             rows.append(row)
     doc = {"mechanism": tol.mech.name, "file": args.file, "output": tol.output, "unit": unit, "input": joint,
            "input_unit": "deg" if angular else "length", "distribution": args.distribution,
-           "dimensions": dims, "inputs": rows, "first_order": first.message}
+           "dimensions": dims, "inputs": rows, "first_order": first.message,
+           "first_order_valid": bool(first.valid.all()), "first_order_not_valid": first.not_valid,
+           "ignored": list(tol.ignored)}
     if mc is not None:
         with np.errstate(invalid="ignore", divide="ignore"):    # no spread at all: no ratio
             ratio = mc.std / first.std
         ok = np.isfinite(ratio)
+        within = bool(ok.any() and np.all(np.abs(ratio[ok] - 1) <= AGREE))
         doc["monte_carlo"] = {"samples": mc.samples, "seed": mc.seed, "batches": mc.batches, "failed": mc.failed,
+                              "failures": {k: mc.failures[k] for k in REASONS},
+                              "spec": None if mc.spec is None else mc.spec * scale,
+                              "failure_fraction": mc.fraction, "failure_fraction_error": mc.fraction_error,
+                              "std_relative_error": mc.relative_error, "trusted": mc.trusted, "trust": mc.trust,
                               "ratio_min": float(np.min(ratio[ok])) if ok.any() else None,
                               "ratio_max": float(np.max(ratio[ok])) if ok.any() else None,
-                              "agree": bool(ok.any() and np.all(np.abs(ratio[ok] - 1) <= AGREE)),
-                              "message": mc.message}
+                              "agree": bool(within and mc.trusted and first.valid.all()),
+                              "verdict": _verdict(first, mc, within), "message": mc.message}
     if scan is not None:
         doc["scan"] = [{"scale": s.scale, "first_order_std": s.first_order * scale, "monte_carlo_std": s.monte_carlo * scale,
-                        "ratio": s.ratio, "failed": s.failed, "agree": bool(abs(s.ratio - 1) <= AGREE)} for s in scan]
+                        "ratio": s.ratio, "failed": s.failed, "first_order_valid": s.valid,
+                        "monte_carlo_trusted": s.trusted, "agree": s.agree} for s in scan]
     if allocated is not None:
         doc["allocate"] = {"accuracy": args.allocate,
                            "meaning": "3 sigma" if args.distribution == "normal" else "worst case"}
     return doc
 
 
+def _verdict(first, mc, within: bool) -> str:
+    """Which estimate to trust: a recommendation only when Monte Carlo can carry one."""
+    if not mc.trusted:
+        return (f"no recommendation: Monte Carlo cannot say ({mc.trust})"
+                + (f"; {first.not_valid}" if first.not_valid else ""))
+    if first.not_valid:
+        return f"{first.not_valid}: trust Monte Carlo"
+    if within:
+        return f"the first-order estimate is enough (within {100 * AGREE:g}% of Monte Carlo)"
+    return f"first order and Monte Carlo differ by more than {100 * AGREE:g}%: trust Monte Carlo"
+
+
 #: The unit of a number as the text shows it: angles in degrees, lengths in the mechanism file's unit.
 LABEL = {"deg": "deg", "length": "file units"}
+
+
+def _short(value) -> str:
+    """A number of four digits, or ``n/a`` where there is none (no derivative at any input)."""
+    return f"{value:12.4g}" if value is not None and math.isfinite(value) else f"{'n/a':>12s}"
+
+
+def _cell(value, word: str) -> str:
+    """A number of the table, or a word where there is none (a singular first order, no sample assembled)."""
+    return f"{value:12.6g}" if value is not None and math.isfinite(value) else f"{word:>12s}"
 
 
 def _text(out, doc) -> None:
@@ -204,36 +255,46 @@ def _text(out, doc) -> None:
         own = LABEL["deg" if d["kind"] == "angle" else "length"]
         slope = "/".join("deg" if u == "deg" else "unit" for u in (unit, own))   # unit: the file's length unit
         out.write((f"    {d['name']:<20s} {own:>10s} {d['nominal']:12.6g} {d['tolerance']:12.4g} "
-                   f"{100 * d['share']:6.1f}% {d['largest_derivative']:12.4g} {slope:<9s}"
-                   + (f" {d['allocated']:12.4g}" if alloc else "")).rstrip() + "\n")
+                   f"{100 * d['share']:6.1f}% {_short(d['largest_derivative'])} {slope:<9s}"
+                   + (f" {_short(d['allocated'])}" if alloc else "")).rstrip() + "\n")
     mc = "monte_carlo" in doc
     header = ["input", "nominal", "worst case", "3σ first", *(["3σ Monte C.", "largest MC"] if mc else [])]
     columns = len({r['column'] for r in rows}) > 1
     out.write("#" + " ".join(f"{h:>12s}" for h in header) + ("   column" if columns else "") + "\n")
     out.write("#" + " ".join(f"{u:>12s}" for u in [of_input] + [unit] * (len(header) - 1)) + "\n")
     for r in rows:
-        values = [r["input"], r["nominal"], r["worst_case"], r["three_sigma_first_order"]]
+        word = "singular" if r["first_order_note"] == "singular" else "n/a"
+        cells = [_cell(r["input"], ""), _cell(r["nominal"], ""), _cell(r["worst_case"], word),
+                 _cell(r["three_sigma_first_order"], word)]
         if mc:
-            values += [r["three_sigma_monte_carlo"], r["largest_monte_carlo"]]
-        out.write(" " + " ".join(f"{v:12.6g}" for v in values) + (f"   {r['column']}" if columns else "") + "\n")
+            cells += [_cell(r["three_sigma_monte_carlo"], "none"), _cell(r["largest_monte_carlo"], "none")]
+        note = f"   <- first order not valid: {SHORT[r['first_order_note']]}" if r["first_order_note"] else ""
+        out.write(" " + " ".join(cells) + (f"   {r['column']}" if columns else "") + note + "\n")
     out.write(f"# first order: {doc['first_order']}\n")
+    if doc["ignored"]:
+        out.write(f"#   {', '.join(doc['ignored'])}: not needed for {doc['output']}, not solved (cannot make a sample "
+                  "fail)\n")
     if mc:
         m = doc["monte_carlo"]
         out.write(f"# Monte Carlo: {m['message']}\n")
         if m["ratio_min"] is None:
             out.write("#   its σ over first order's: not defined (no input where both are finite and first order's is "
-                      "not zero)\n")
+                      f"not zero){'' if m['trusted'] and doc['first_order_valid'] else '; ' + m['verdict']}\n")
         else:
-            verdict = ("the first-order estimate is enough (within 5% of Monte Carlo)" if m["agree"]
-                       else "first order and Monte Carlo differ by more than 5%: trust Monte Carlo")
-            out.write(f"#   its σ over first order's: {m['ratio_min']:.4f} .. {m['ratio_max']:.4f}: {verdict}\n")
+            out.write(f"#   its σ over first order's: {m['ratio_min']:.4f} .. {m['ratio_max']:.4f}: {m['verdict']}\n")
     if "scan" in doc:
         out.write(f"# tolerances scaled: {'scale':>6s} {'σ first':>12s} {'σ Monte C.':>12s} {'ratio':>8s} {'failed':>7s}\n")
         out.write(f"#                    {'×':>6s} {unit:>12s} {unit:>12s} {'×':>8s} {'samples':>7s}\n")
         for s in doc["scan"]:
             ratio = f"{s['ratio']:8.4f}" if s["ratio"] is not None and math.isfinite(s["ratio"]) else f"{'-':>8s}"
-            out.write(f"#                    {s['scale']:6g} {s['first_order_std']:12.4g} {s['monte_carlo_std']:12.4g} "
-                      f"{ratio} {s['failed']:7d}" + ("" if s["agree"] else "  <- they part") + "\n")
+            why = ([] if s["first_order_valid"] else ["first order not valid"]) + \
+                  ([] if s["monte_carlo_trusted"] else ["Monte Carlo not trusted"])
+            spreads = " ".join(f"{v:12.4g}" if v is not None and math.isfinite(v) else f"{'n/a':>12s}"
+                               for v in (s["first_order_std"], s["monte_carlo_std"]))
+            parted = not (s["ratio"] is not None and abs(s["ratio"] - 1) <= AGREE)
+            mark = "" if s["agree"] else "  <- they part" if parted else "  <- no verdict"
+            out.write(f"#                    {s['scale']:6g} {spreads} {ratio} {s['failed']:7d}{mark}"
+                      + (f" ({', '.join(why)})" if why else "") + "\n")
     if alloc:
         out.write(f"# suggested tolerances keep the {doc['allocate']['meaning']} within {doc['allocate']['accuracy']:g} "
                   f"{unit}, each dimension taking an equal part at its worst input\n")

@@ -1,7 +1,7 @@
 """Facts of the design dialogue (experta templates), kept apart from the rules.
 
 * ``Attr(name=..., value=...)``: a known attribute of the problem (class,
-  outputs, dof, space, loops, gear_pairs, slider_pairs, names, scene, links,
+  function (a motion conversion or None), outputs, dof, space, loops, gear_pairs, slider_pairs, names, scene, links,
   joints, requirements, weights, relevance).
 * ``Needed(name=..., after=...)``: ask ``name`` once ``after`` is known (the
   order of the questions).
@@ -38,7 +38,8 @@ class Phase(Fact):
 
 #: The questions about the problem, in the order they are asked: (attribute, asked after).
 QUESTION_ORDER = (
-    ("outputs", "class"),
+    ("function", "class"),
+    ("outputs", "function"),
     ("dof", "outputs"),
     ("space", "dof"),
     ("loops", "space"),

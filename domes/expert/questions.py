@@ -20,6 +20,7 @@ from domes.errors import InputError
 from domes.io.mechanisms import load_mechanism
 from domes.io.resources import knowledge_dir
 from domes.io.scenes import load_scene, scene_names
+from domes.knowledge.catalogue import motion_pair, requirement
 from domes.language.parse import normalise_name, parse_criterion, parse_relevance
 from domes.language.tree import Always, ClassIs
 from domes.model.labelled import LabelledChain
@@ -217,9 +218,32 @@ def satisfied_parser(ids: list[str]) -> Callable[[str], bool | list[tuple[str, i
     return parse
 
 
+
+def parse_function(text: str):
+    """A motion conversion for the catalogue (``rotation -> straight line``), or None for ``none``."""
+    if text.strip().lower() in ("", "none", "-"):
+        return None
+    return motion_pair(text)
+
+
+def parse_function_requirements(text: str) -> tuple:
+    """Requirements on the catalogue's mechanisms, separated by ``;`` (``dwell >= 90; index = 90``), or none."""
+    if text.strip().lower() in ("", "none", "-"):
+        return ()
+    return tuple(requirement(part) for part in text.split(";") if part.strip())
+
+
 HELP = {
     "class": "The kind of device, in a few words (e.g. motorcycle rear suspension, window lifter). Problems of "
              "one class are compared with each other: the same, similar or different.",
+    "function": "A problem of the second class (seed 002, §5-1) asks for a function by motion mode: name the "
+                "motion in and out (rotation, oscillation, reciprocation, intermittent rotation, straight line), e.g. "
+                "'rotation -> intermittent rotation', and the catalogue of standard mechanisms proposes those that "
+                "do it (domes catalogue, docs/catalogue.md); the dialogue then goes on to type synthesis. none "
+                "skips the catalogue.",
+    "function_requirements": "What the catalogue's mechanism must do, in its property's own unit, e.g. 'dwell >= "
+                             "90' (degrees of the input turn), 'straight-line deviation <= 0.5' (percent), 'time "
+                             "ratio >= 1.5'; several separated by ';'. none keeps every mechanism for the motion.",
     "outputs": "How many independent output motions the mechanism delivers (usually 1).",
     "dof": "The degrees of freedom W: how many inputs drive the mechanism (1 for a single motor or cylinder).",
     "space": "planar (λ = 3): every link moves in one plane; spatial (λ = 6) problems get their numbers of links "
@@ -278,6 +302,12 @@ def names_help(known: list[str]) -> str:
 
 STATIC = {
     "class": Question("class", "Problem class (e.g. motorcycle rear suspension)", parse_class, help=HELP["class"]),
+    "function": Question("function", "Function by motion, to look up the catalogue (e.g. rotation -> intermittent "
+                         "rotation), or none", parse_function, "none", HELP["function"], optional_in_scripts=True,
+                         script_default="none"),
+    "function_requirements": Question("function_requirements", "What must it do? (e.g. dwell >= 90; several "
+                                      "separated by ';'), or none", parse_function_requirements, "none",
+                                      HELP["function_requirements"], optional_in_scripts=True),
     "outputs": Question("outputs", "Number of output motions", parse_int_range(1, 8), "1", HELP["outputs"]),
     "dof": Question("dof", "Degrees of freedom W", parse_int_range(1, 6), "1", HELP["dof"]),
     "space": Question("space", "Mechanism type: planar or spatial", parse_space, "planar", HELP["space"]),

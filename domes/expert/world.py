@@ -14,6 +14,7 @@ import re
 import uuid
 from typing import Callable
 
+from domes.design.catalogue import propose
 from domes.design.verify import verify as verify_mechanism
 from domes.errors import DomesError
 from domes.expert.dimensions import dimension_candidate
@@ -23,6 +24,7 @@ from domes.expert.paths import coupler_path_text
 from domes.expert.reasoner import recognise
 from domes.expert.report import report_folder, write_report
 from domes.expert.run import DesignRun, design, scene_roles
+from domes.io.catalogue import load_catalogue
 from domes.io.scenes import load_scene, scene_names
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
@@ -54,6 +56,7 @@ class World:
         #: Names this session in the case base's history.
         self.session_id = f"design session {uuid.uuid4().hex[:8]}"
         self.pending_criterion: str | None = None
+        self.catalogue = None
 
     # -- the case base ---------------------------------------------------------------
 
@@ -110,6 +113,12 @@ class World:
             else:
                 self._leave_phase(engine, "criteria")
                 engine.declare(Phase(name="run"))
+        elif question == "function":
+            engine.set_attr("function", value)
+            if value is not None:
+                engine.ask("function_requirements")
+        elif question == "function_requirements":
+            self.propose_from_catalogue(engine.attr("function"), value)
         elif question == "requirements":
             if value:
                 self.pending_requirements = list(load_scene(engine.attr("scene")).requirements)
@@ -150,6 +159,21 @@ class World:
                 engine.declare(Phase(name="retain" if value else "criteria"))
         else:
             engine.set_attr(question, value)
+
+    def propose_from_catalogue(self, motion, requirements) -> None:
+        """The catalogue's mechanisms for ``motion`` (seed 002 §5-1, the second class of problems), measured and
+        checked against ``requirements``, said with the reasons; type synthesis follows for new structures."""
+        found = propose(load_catalogue(), motion, requirements)
+        self.catalogue = found
+        self.say(f"Catalogue: {found.message}")
+        for p in found:
+            props = "; ".join(f"{name} {value}" for name, value in p.properties.items())
+            why = f" ({'; '.join(p.reasons)})" if p.reasons else ""
+            self.say(f"  {'proposed' if p.kept else 'left out'}: {p.entry.name}: {props}{why}")
+        if not found.proposals:
+            self.say("  (no catalogue mechanism converts this motion: type synthesis below looks for new ones)")
+        else:
+            self.say("Type synthesis follows: new structures for the same function (answer the questions below).")
 
     def ask_requirements(self, engine, scene: str | None) -> None:
         """Ask whether to dimension for requirements when the scene says how (else: no requirements)."""

@@ -23,12 +23,14 @@ from domes.model.fields import check_keys, closest
 from domes.typesynth.regenerate import regenerate
 
 #: The entries of a planar task file by kind (docs/synthesis.md), besides ``kind``, ``name``, ``description``,
-#: ``comment`` and ``min_transmission_deg``; and the entries of a curve task's sections.
+#: ``comment`` and ``min_transmission_deg``; and the entries of a curve task's sections. Guidance, function and
+#: path tasks also take ``tolerance`` and ``max_link_ratio`` (what "usable" means: docs/synthesis.md).
+CHECKED = {"tolerance", "max_link_ratio"}
 ENTRIES = {
-    "guidance": {"positions", "circle_points", "centre_points", "circle_x", "slider_directions_deg", "slider"},
+    "guidance": {"positions", "circle_points", "centre_points", "circle_x", "slider_directions_deg", "slider"} | CHECKED,
     "function": {"function", "range", "input_deg", "output_deg", "points", "frame", "respace", "start_deg",
-                 "rotations_deg", "rocker_pin"},
-    "path": {"points", "crank_deg", "a0", "a1", "b0", "b1", "given"},
+                 "rotations_deg", "rocker_pin"} | CHECKED,
+    "path": {"points", "crank_deg", "a0", "a1", "b0", "b1", "given"} | CHECKED,
     "curve": {"scene", "candidates", "input", "point", "wanted", "box", "limits"},
 }
 COMMON = {"kind", "name", "description", "comment", "min_transmission_deg"}

@@ -337,3 +337,35 @@ def test_a_scene_file_of_the_users_is_a_scene(casebase):
                         f"slider_pairs: 0\nnames: crank\nscene: {scene.with_suffix('.txt')}\nscene: none\n"
                         "relevance_overrides: none\nmore_criteria: no\nverify: none\nsatisfied: yes\n")
     assert "a scene file (FILE.toml" in said
+
+
+INDEXING = (ROOT / "examples" / "design" / "indexing-table.answers").read_text()
+
+
+def test_a_problem_of_the_second_class_gets_the_catalogue_then_type_synthesis(casebase):
+    """Seed 002 §5-1: a function by motion mode. "rotation in, intermittent rotation out, dwell >= 90°" proposes
+    the catalogue's Geneva wheels, each with its measured dwell, and the dialogue goes on to new structures."""
+    outcome, said = run(casebase, INDEXING)
+    assert asked(outcome)[:4] == ["class", "function", "function_requirements", "outputs"]
+    assert "Catalogue: complete: rotation → intermittent rotation: 2 catalogue mechanism(s), 2 meeting dwell >= 90" in said
+    assert "proposed: Geneva wheel, 4 slots: index 90°; dwell 270°" in said
+    assert "(dwell >= 90: has 240°)" in said
+    assert "2 of 2 candidates kept" in said and outcome.frame is not None
+    strict = INDEXING.replace("function_requirements: dwell >= 90", "function_requirements: dwell >= 260; index = 90")
+    _, said = run(casebase, strict)
+    assert "1 meeting dwell >= 260; index = 90" in said and "left out: Geneva wheel, 6 slots" in said
+
+
+def test_a_bad_function_answer_is_asked_again(casebase):
+    text = INDEXING.replace("function: rotation -> intermittent rotation",
+                            "function: rotation -> teleportation\nfunction: rotation -> straight line")
+    text = text.replace("function_requirements: dwell >= 90", "function_requirements: dwell >= 90")
+    outcome, said = run(casebase, text)
+    assert "not accepted: unknown motion 'teleportation'" in said
+    assert "Catalogue: empty: rotation → straight line: 1 catalogue mechanism(s), 0 meeting dwell >= 90" in said
+    assert "not a property it has" in said
+
+
+def test_answers_written_before_the_catalogue_skip_it(casebase):
+    outcome, said = run(casebase, MOTORCYCLE)
+    assert "the answers do not answer 'function': 'none'" in said and "Catalogue:" not in said

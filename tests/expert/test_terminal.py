@@ -13,6 +13,7 @@ pexpect = pytest.importorskip("pexpect")
 
 ANSWERS = [
     ("Problem class", "motorcycle rear suspension"),
+    ("Function by motion", ""),  # the default: none (no catalogue look-up)
     ("Number of output motions", ""),  # the default, 1
     ("Degrees of freedom", "1"),
     ("Mechanism type", "planar"),
@@ -106,6 +107,7 @@ def test_interrupt_and_resume(tmp_path):
 #: others left at the scene's defaults (an empty answer).
 LOOP = [
     ("Problem class", "hinge clamp"),
+    ("Function by motion", "none"),
     ("Number of output motions", ""),
     ("Degrees of freedom", "1"),
     ("Mechanism type", "planar"),

@@ -313,7 +313,8 @@ def test_inputs_floats_cannot_place_or_too_far_to_walk_are_refused():
 @functools.lru_cache(maxsize=1)
 def _rssrs_near_a_limit(count: int, seed: int = 7) -> tuple:
     """Random RSSRs of seed 001's frame whose crank meets a limit within a radian of the drawn pose, going up:
-    the mechanism and the exact limit (the closed form's gap start, by Brent's method on its sampled sign change)."""
+    the mechanism and the exact limit (the closed form's gap start: a root of its degree-two discriminant, polished by
+    Brent's method)."""
     rng = np.random.default_rng(seed)
     found = []
     while len(found) < count:
@@ -328,12 +329,13 @@ def _rssrs_near_a_limit(count: int, seed: int = 7) -> tuple:
 def test_rssr_limits_are_the_exact_roots_to_the_stated_precision(index):
     # issue 31, item 4: limits reported "located to 5.7e-9°" were off by up to 4.5e-3° against the exact roots.
     # 100 random RSSRs near their limits (a sample of 40 unless DOMES_FULL_TESTS=1): each sweep stops at the root
-    # of the closed form's discriminant within the precision it states.
+    # of the closed form's discriminant within the precision it states (Brent's 1e-13 rad plus the rounding).
     from domes.motion.spatial.sweep import EXACT
 
     mech, exact = _rssrs_near_a_limit(cases(100))[index]
     sw = spatial_sweep(mech, 0.0, exact + 0.3, math.radians(2.0))
     assert not sw.success and sw.limit.kind == "limit"
-    assert abs(sw.limit.input - exact) <= EXACT
-    assert f"located to {math.degrees(EXACT):.10g}°" in sw.limit.message
+    assert EXACT <= sw.limit.within < 1e-11
+    assert abs(sw.limit.input - exact) <= sw.limit.within
+    assert f"located to {math.degrees(sw.limit.within):.10g}°" in sw.limit.message
     assert sw.inputs[-1] <= sw.limit.input                    # the table ends at a pose that assembles

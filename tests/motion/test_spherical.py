@@ -28,7 +28,7 @@ def test_closed_form_equals_the_loop_closure(seed):
         axes = rng.normal(size=(4, 3))
         mech = linkage(*axes, centre=rng.normal(size=3))
         s = SphericalFourBar.of(mech)
-        if s.input_turns_fully(720):
+        if s.input_turns_fully():
             break
     sw = spatial_sweep(mech, 0.0, 2 * math.pi, math.radians(10), outputs=["angle:B0"], order=2)
     if not sw.success:

@@ -73,8 +73,9 @@ def expression(text: str, where: str = "function"):
     names = {"__builtins__": {}, "_float": np.float64, **FUNCTIONS, **CONSTANTS}
 
     def f(x):
-        with np.errstate(all="ignore"):
-            return eval(code, names, {"x": np.asarray(x, dtype=float)})  # noqa: S307 - AST checked above
+        x = np.asarray(x, dtype=float)
+        with np.errstate(all="ignore"):                  # a constant (``2**2**2**2**2``) gets the shape of x too
+            return eval(code, names, {"x": x}) + np.zeros_like(x)  # noqa: S307 - AST checked above
 
     f.text = str(text)
     return f

@@ -68,6 +68,8 @@ class FunctionTask:
     name: str = "function"
     respace: bool = False
     min_transmission_deg: float | None = None
+    tolerance: float | None = None
+    max_link_ratio: float | None = None
 
     @property
     def y0(self) -> float:

@@ -36,9 +36,6 @@ from domes.results import Progress, Ticker
 #: Grid cells per turn of each of θ12 and θ13.
 GRID = 720
 
-#: Moving pivots farther than this many times the size of the points and fixed pivots from their centre are left out.
-REACH = 20.0
-
 
 @dataclass(frozen=True)
 class PathSolution:
@@ -138,23 +135,21 @@ def five_points(points, a0, b0, grid: int = GRID, method: str = "exact", seeds: 
 
     ``method="fast"`` polishes ``seeds`` random starts instead of searching
     the grids (the book's procedure, step 6): quicker, and it finds some of
-    the roots, not all. Moving pivots farther than :data:`REACH` times the
-    task's size from its centre are left out: with the points (nearly) on one
-    line the equations are met in the limit of a translating coupler on
-    endless cranks.
+    the roots, not all. Every root is returned, degenerate ones too: with the
+    points (nearly) on one line the equations are met in the limit of a
+    translating coupler on endless cranks, hundreds of roots with pivots far
+    away (:mod:`~domes.design.synthesis.verify` groups them).
     """
     check_path(points, a0, b0)
     clock = Ticker(progress)
     P = [tuple(map(float, p)) for p in points]
     a0, b0 = tuple(map(float, a0)), tuple(map(float, b0))
     size = float(np.ptp(np.asarray(P), axis=0).max())
-    every = np.asarray(P + [a0, b0])
-    reach = (every.mean(axis=0), REACH * float(np.ptp(every, axis=0).max()))
     if method == "fast":
         found: list[PathSolution] = []
         for k, guess in enumerate(np.random.default_rng(seed).uniform(-math.pi, math.pi, (seeds, 2))):
             clock.tick(lambda: f"path points: start {k + 1} of {seeds}, {len(found)} solution(s)")
-            sol = _polish(P, a0, b0, guess, size, reach=reach)
+            sol = _polish(P, a0, b0, guess, size)
             if sol is not None and not any(math.dist(sol.a1, f.a1) + math.dist(sol.b1, f.b1) <= 1e-7 * size
                                            for f in found):
                 found.append(sol)
@@ -172,7 +167,7 @@ def five_points(points, a0, b0, grid: int = GRID, method: str = "exact", seeds: 
             clock.tick(lambda: f"path points: grid {PAIRS.index(pair) + 1} of {len(PAIRS)}, cell {c + 1} of "
                        f"{len(todo)}, {len(found)} solution(s)")
             guess = np.array([0.5 * (t[i] + t[i + 1]), 0.5 * (t[k] + t[k + 1])])
-            sol = _polish(P, a0, b0, guess, size, pair, reach=reach)
+            sol = _polish(P, a0, b0, guess, size, pair)
             if sol is not None and not any(math.dist(sol.a1, f.a1) + math.dist(sol.b1, f.b1) <= 1e-7 * size
                                            for f in found):
                 found.append(sol)
@@ -195,7 +190,7 @@ def _sign_cells(g):
     return any_pos & any_neg
 
 
-def _polish(P, a0, b0, guess, size, pair=(1, 2), reach=None):
+def _polish(P, a0, b0, guess, size, pair=(1, 2)):
     def fn(x):
         _, _, g = _conditions(P, a0, b0, x[0], x[1], pair)
         return [float(g[0]), float(g[1])]
@@ -206,8 +201,8 @@ def _polish(P, a0, b0, guess, size, pair=(1, 2), reach=None):
         return None
     a1, b1, _ = _conditions(P, a0, b0, x[0], x[1], pair)
     a1, b1 = (float(a1[0]), float(a1[1])), (float(b1[0]), float(b1[1]))
-    if reach is not None and max(math.dist(a1, reach[0]), math.dist(b1, reach[0])) > reach[1]:
-        return None                                  # pivots run off to infinity: the points (nearly) in line
+    if not all(map(math.isfinite, a1 + b1)):
+        return None
     rot = []
     for j in range(1, 5):
         if j in pair:

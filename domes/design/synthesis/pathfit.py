@@ -36,11 +36,15 @@ from domes.design.synthesis.counts import PROBLEMS
 from domes.errors import InputError
 from domes.results import Progress, Ticker
 
-#: Solutions with a pivot farther than this many times the points' size from their centre are left out.
+#: Least-squares minima with a pivot farther than this many times the points' size from their centre are left out
+#: (exact roots are all kept: :mod:`~domes.design.synthesis.verify` groups the degenerate ones).
 REACH = 10.0
 
 #: Least-squares minima with a link shorter than this fraction of the points' size are degenerate, left out.
 SHORTEST = 0.01
+
+#: Points within this fraction of their size from one line are "nearly in line" (a note says so).
+NEARLY = 1e-3
 
 #: Evaluations of the polish of one least-squares minimum: the minima of a drawn path settle in about a hundred;
 #: one still moving after this many runs off with its pivots (points nearly in line) and is left out by REACH.
@@ -93,6 +97,32 @@ def on_one_line(points) -> tuple[int, ...]:
             if len(on) > len(best):
                 best = on
     return best if len(best) >= 3 else ()
+
+
+def line_deviation(points) -> float:
+    """The largest distance of the points from their best line (total least squares)."""
+    P = np.asarray(points, dtype=float)
+    Q = P - P.mean(axis=0)
+    normal = np.linalg.svd(Q, full_matrices=True)[2][-1]
+    return float(np.max(np.abs(Q @ normal)))
+
+
+def on_one_circle(points, within: float = NEARLY):
+    """``(centre, radius, largest distance from it)`` when the points lie within ``within`` of their size from one
+    circle (of radius up to 100 sizes: flatter is a line), else None."""
+    P = np.asarray(points, dtype=float)
+    size = float(max(np.ptp(P, axis=0).max(), 1e-300))
+    M = np.c_[2 * P, np.ones(len(P))]
+    sol, *_ = np.linalg.lstsq(M, np.sum(P * P, axis=1), rcond=None)
+    centre = sol[:2]
+    radius2 = sol[2] + centre @ centre
+    if not radius2 > 0 or radius2 > (100 * size) ** 2:
+        return None
+    radius = math.sqrt(radius2)
+    off = float(np.max(np.abs(np.linalg.norm(P - centre, axis=1) - radius)))
+    if off > within * size:
+        return None
+    return (float(centre[0]), float(centre[1])), radius, off
 
 
 def problem_counts(n: int, crank=None) -> tuple[int, int, int]:
@@ -226,12 +256,14 @@ def _damped_steps(M, g):
 
 
 def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep: int = 10,
-        least_squares_only: bool = False, progress: Progress | None = None) -> list[PathFit]:
-    """Four-bars through ``points`` with the pivot coordinates ``given``: every distinct root found (exact), or the
-    ``keep`` best distinct local minima (least squares), from ``starts`` random starts.
+        least_squares_only: bool = False, progress: Progress | None = None, left_out: dict | None = None
+        ) -> list[PathFit]:
+    """Four-bars through ``points`` with the pivot coordinates ``given``: every distinct root found (exact, the
+    degenerate ones too), or the ``keep`` best distinct local minima (least squares), from ``starts`` random starts.
 
     ``crank``: the crank's rotations ``φ1j`` (rad) from point 1 to each later point (prescribed input angles).
     ``least_squares_only``: the best minima even when the count makes the problem exact (no root was found).
+    ``left_out``: a dictionary that counts the least-squares minima left out as degenerate, by reason.
     """
     check_points(points)
     P = np.asarray(points, dtype=float)
@@ -271,18 +303,21 @@ def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep:
                 X[i] = least_squares(fun, X[i], jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15,
                                      max_nfev=POLISH).x
             r[i] = fun(X[i])
-        found = _collect(X[idx], r[idx], P, given, kind, size, keep)
+        found = _collect(X[idx], r[idx], P, given, kind, size, keep, left_out)
     return [f for _, f in found]
 
 
-def _collect(X, r, P, given, kind, size, keep):
-    """``(row, PathFit)`` of the distinct usable rows of ``X``, best first."""
+def _collect(X, r, P, given, kind, size, keep, left_out=None):
+    """``(row, PathFit)`` of the distinct rows of ``X``, best first: every root (exact), or the distinct minima
+    that are four-bars (least squares; the others counted in ``left_out`` by reason)."""
     centre = P.mean(axis=0)
     res = np.max(np.abs(r), axis=1) * size
     if kind == "least squares":
         res = np.sqrt(np.mean(r * r, axis=1)) * size
     order = np.argsort(np.where(np.isfinite(res), res, np.inf))
     found: list[tuple[int, PathFit]] = []
+    pivots = np.empty((0, 8))                 # the pivots of the rows kept, to find a repeat at once
+    skipped: dict = {}
     for i in order:
         if not np.isfinite(res[i]) or (kind == "exact" and res[i] > 1e-9 * size):
             continue
@@ -292,18 +327,25 @@ def _collect(X, r, P, given, kind, size, keep):
         th = list(it)
         cand = PathFit(*(tuple(full[2 * k:2 * k + 2]) for k in range(4)),
                        tuple(float(math.remainder(t, 2 * math.pi)) for t in th), float(res[i]))
-        shortest = min(math.dist(cand.a0, cand.a1), math.dist(cand.b0, cand.b1), math.dist(cand.a1, cand.b1),
-                       math.dist(cand.a0, cand.b0))
-        if shortest <= (1e-6 if kind == "exact" else SHORTEST) * size:
-            continue                                   # a link of (nearly) zero length: not a four-bar
-        if max(math.dist(q, centre) for q in (cand.a0, cand.a1, cand.b1, cand.b0)) > REACH * size:
-            continue                                   # pivots run off to infinity: the path's points nearly in line
-        if kind == "least squares" and _mixed_modes(cand, P):
-            continue                                   # points met on both assembly modes: no curve through them
-        if not any(_same(cand, f, size) for _, f in found):
+        if kind == "least squares":
+            shortest = min(math.dist(cand.a0, cand.a1), math.dist(cand.b0, cand.b1), math.dist(cand.a1, cand.b1),
+                           math.dist(cand.a0, cand.b0))
+            why = ("with a link shorter than 1% of the points' size" if shortest <= SHORTEST * size else
+                   "with pivots running off (beyond 10 times the points' size)"
+                   if max(math.dist(q, centre) for q in (cand.a0, cand.a1, cand.b1, cand.b0)) > REACH * size else
+                   "meeting the points on both assembly modes" if _mixed_modes(cand, P) else None)
+            if why is not None:
+                skipped[why] = skipped.get(why, 0) + 1
+                continue
+        flat = np.concatenate([cand.a0, cand.a1, cand.b1, cand.b0])
+        if not np.any(np.sum(np.linalg.norm((pivots - flat).reshape(-1, 4, 2), axis=2), axis=1) <= 1e-6 * size):
             found.append((int(i), cand))
+            pivots = np.vstack([pivots, flat])
         if kind == "least squares" and len(found) >= keep:
             break
+    if left_out is not None:
+        left_out.clear()
+        left_out.update(skipped)
     return found
 
 
@@ -317,10 +359,6 @@ def _mixed_modes(f: PathFit, P) -> bool:
         u, v = bj - aj, np.subtract(f.b0, bj)
         signs.add(np.sign(u[0] * v[1] - u[1] * v[0]))
     return len(signs - {0.0}) > 1
-
-
-def _same(p: PathFit, q: PathFit, size: float) -> bool:
-    return sum(math.dist(getattr(p, k), getattr(q, k)) for k in ("a0", "a1", "b1", "b0")) <= 1e-6 * size
 
 
 def crank_rocker_path(rng, n: int):

@@ -5,6 +5,16 @@ of task, a result object (:class:`Synthesis`) with ``status``, ``success``,
 ``message``, the solutions and the numbers that show their quality (the
 residual at every precision position, the checks, the structural error).
 
+Every solution is then moved by the kinematics kernel
+(:mod:`~domes.design.synthesis.verify`) through the crank angles it claims,
+on the assembly mode of its first position: its ``residuals`` are the
+distances of what the kernel gives from what the task wants, and it is
+usable only when every one is within the task's ``tolerance`` (relative to
+its size, default :data:`~domes.design.synthesis.verify.TOLERANCE`). Roots
+that are no linkage worth listing (a link of zero length, pivots running off
+to infinity, links beyond ``max_link_ratio`` times the task) are grouped in
+``degenerate``, counted and named, not listed.
+
 Solutions are ranked by a documented score: usable ones (no defect) first,
 those without a warning (a smallest transmission angle below
 :data:`MIN_TRANSMISSION_DEG` or the task's) before those with one, then
@@ -32,12 +42,20 @@ from domes.design.synthesis import guidance as gd
 from domes.design.synthesis import path as pt
 from domes.design.synthesis import pathfit as pf
 from domes.design.synthesis import sliders as sl
+from domes.design.synthesis import verify as vf
 from domes.design.synthesis.candidate import CurveTask, Dimensioning, SolutionSet, dimension
 from domes.design.synthesis.displacement import moved, rotation_about
 from domes.design.synthesis.fourbars import Checks, FourBar, SliderCrank, check, check_slider
-from domes.design.synthesis.task import GuidanceTask, PathTask, RotationTask, min_transmission
+from domes.design.synthesis.task import (
+    GuidanceTask,
+    PathTask,
+    RotationTask,
+    link_ratio,
+    min_transmission,
+    relative_tolerance,
+)
+from domes.design.synthesis.verify import curve_distances
 from domes.errors import InputError
-from domes.motion.planar.batch import batch
 
 #: The smallest transmission angle (°) below which a usable linkage is reported with a warning and ranked after
 #: the others. The book asks only for "a reasonable transmission angle" (seed 002 §2-3); 20° is where the design
@@ -47,7 +65,15 @@ MIN_TRANSMISSION_DEG = 20.0
 
 @dataclass(frozen=True)
 class Solution:
-    """A synthesised four-bar, its checks, and its residual at every precision position (in length units)."""
+    """A synthesised four-bar, its checks, and its error at every precision position (in length units).
+
+    ``residuals`` are the kernel's re-evaluation (the distance of the coupler
+    point from each path point, the pose error of each guided position, the
+    rocker pin's distance from its wanted place); ``equation_residuals`` the
+    errors of the synthesis equations the root was found by; ``size`` the
+    task's size the tolerance is relative to; ``claim`` what the kernel
+    checked.
+    """
 
     fourbar: FourBar | SliderCrank
     checks: Checks
@@ -57,6 +83,9 @@ class Solution:
     respaced: fn.Respacing | None = None
     poses: tuple = ()           # the moving pivots ((a_jx, a_jy), (b_jx, b_jy)) at every precision position
     warnings: tuple[str, ...] = ()   # what a designer should look at in a usable linkage (a poor transmission angle)
+    equation_residuals: tuple[float, ...] = ()
+    size: float = 1.0
+    claim: vf.Claim | None = None
 
     @property
     def residual(self) -> float:
@@ -73,7 +102,8 @@ class Solution:
 
 @dataclass(frozen=True, eq=False)
 class Synthesis(SolutionSet):
-    """Every solution of a task, ranked; ``roots`` is the count of real roots found before the checks."""
+    """Every solution of a task, ranked; ``roots`` is the count of real roots found before the checks, of which
+    those in the ``degenerate`` groups are not listed in ``solutions``."""
 
     task_name: str
     kind: str
@@ -82,18 +112,25 @@ class Synthesis(SolutionSet):
     seconds: float
     notes: tuple[str, ...] = field(default_factory=tuple)
     min_transmission_deg: float = MIN_TRANSMISSION_DEG
+    degenerate: tuple[vf.Degenerate, ...] = ()
+    tolerance: float = vf.TOLERANCE
+    max_link_ratio: float = vf.MAX_LINK_RATIO
+    size: float = 1.0
     items_field = "solutions"
 
     @property
     def message(self) -> str:
         poor = sum(1 for s in self.usable if s.warnings)
         warned = f" ({poor} of them with a transmission angle below {self.min_transmission_deg:g}°)" if poor else ""
+        grouped = sum(g.count for g in self.degenerate)
+        grouped = f", {grouped} degenerate (grouped)" if grouped else ""
         return (f"{self.status}: {self.task_name}: {self.roots} real root(s), {len(self.solutions)} linkage(s), "
-                f"{len(self.usable)} usable{warned}; {self.seconds * 1e3:.1f} ms")
+                f"{len(self.usable)} usable{warned}{grouped}; {self.seconds * 1e3:.1f} ms")
 
 
 def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, executor=None,
-               min_transmission_deg: float | None = None) -> Synthesis | Dimensioning:
+               min_transmission_deg: float | None = None, tolerance: float | None = None,
+               max_link_ratio: float | None = None) -> Synthesis | Dimensioning:
     """Dimension a four-bar for ``task`` (guidance, function, rotations or path): every real solution, checked.
 
     A :class:`~domes.design.synthesis.candidate.CurveTask` dimensions its
@@ -112,6 +149,13 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
     transmission angle at the precision positions is below it gets a warning
     and is ranked after the others; for a curve task it replaces the task's
     ``limits.min_transmission_deg``.
+
+    ``tolerance`` (default: the task's, else :data:`~domes.design.synthesis.verify.TOLERANCE`): the largest
+    re-evaluated error of a usable linkage, relative to the task's size (the spread of the path points or of the
+    positions' points, the frame length of a function generator); for a curve task it replaces
+    ``wanted.tolerance``. ``max_link_ratio`` (default: the task's, else
+    :data:`~domes.design.synthesis.verify.MAX_LINK_RATIO`): roots with a longer link than this many times the task's
+    extent (the spread of its points and given pivots) are grouped as degenerate.
     """
     if method not in ("exact", "fast"):
         raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
@@ -121,26 +165,43 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
         min_transmission_deg = min_transmission(min_transmission_deg, "min_transmission_deg")
         if isinstance(task, CurveTask):
             task = replace(task, min_transmission=math.radians(min_transmission_deg))
+    if tolerance is not None:
+        tolerance = relative_tolerance(tolerance, "tolerance")
+        if isinstance(task, CurveTask):
+            task = replace(task, tolerance=tolerance)
+    if max_link_ratio is not None:
+        max_link_ratio = link_ratio(max_link_ratio, "max_link_ratio")
     if isinstance(task, CurveTask):
         if not task.candidates:
             raise InputError(f"{task.name}: no candidate to dimension (give a scene or candidates)")
         return dimension(task, task.candidates, method, seeds, progress=progress, executor=executor)
     started = time.perf_counter()
+    if not isinstance(task, (GuidanceTask, RotationTask, fn.FunctionTask, PathTask)):
+        raise InputError(f"not a synthesis task: {type(task).__name__}")
+    tol = _first(tolerance, task.tolerance, vf.TOLERANCE)
+    ratio = _first(max_link_ratio, task.max_link_ratio, vf.MAX_LINK_RATIO)
+    size, extent = task_size(task)
     knobs = {"method": method, "seeds": seeds}
     if isinstance(task, GuidanceTask):
-        roots, sols, notes = _guidance(task, **knobs)
-        kind = "guidance"
+        roots, sols, notes = _guidance(task, size, **knobs)
+        kind, what = "guidance", "position"
     elif isinstance(task, RotationTask):
         roots, sols, notes = _rotations(task)
-        kind = "function"
+        kind, what = "function", "precision point"
     elif isinstance(task, fn.FunctionTask):
         roots, sols, notes = _function(task, **knobs)
-        kind = "function"
-    elif isinstance(task, PathTask):
-        roots, sols, notes = _path(task, progress=progress, **knobs)
-        kind = "path"
+        kind, what = "function", "precision point"
     else:
-        raise InputError(f"not a synthesis task: {type(task).__name__}")
+        roots, sols, notes = _path(task, tol, (size, extent, ratio), progress=progress, **knobs)
+        kind, what = "path", "point"
+    sols, groups = _settle(sols, tol, ratio, size, extent, what)
+    notes = list(notes) + [g.text for g in groups]
+    fits = [s for s in sols if s.claim is not None and s.claim.on_curve]
+    if fits and not any(s.usable for s in fits):
+        best = min(max(s.residuals) for s in fits)
+        notes.append(f"no least-squares linkage is within the tolerance {tol:g} of the task's size {size:.3g} "
+                     f"({tol * size:.3g}): the nearest misses by {best:.3g} ({best / size:.2g} of the size); loosen "
+                     "the tolerance (task entry tolerance, --tolerance) to accept it")
     if min_transmission_deg is None:
         min_transmission_deg = getattr(task, "min_transmission_deg", None)
     if min_transmission_deg is None:
@@ -148,7 +209,62 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
     sols = [_transmission_warning(s, min_transmission_deg) for s in sols]
     ranked = sorted(sols, key=_score)
     return Synthesis(task.name, kind, tuple(ranked), roots, time.perf_counter() - started, tuple(notes),
-                     min_transmission_deg)
+                     min_transmission_deg, groups, tol, ratio, size)
+
+
+def _first(*values):
+    return next(v for v in values if v is not None)
+
+
+def _spread(points) -> float:
+    """The larger side of the bounding box of ``points`` (0 for none or one)."""
+    P = np.asarray(list(points), dtype=float).reshape(-1, 2)
+    return float(np.ptp(P, axis=0).max()) if len(P) > 1 else 0.0
+
+
+def task_size(task) -> tuple[float, float]:
+    """``(size, extent)`` of a task: the size its tolerance is relative to (the spread of the path points or of
+    the guided positions' points, the frame of a function generator) and the extent its links are measured
+    against (the spread of those points and of the pivots the task gives)."""
+    if isinstance(task, fn.FunctionTask):
+        return abs(task.frame), abs(task.frame)
+    if isinstance(task, RotationTask):
+        return 1.0, 1.0
+    if isinstance(task, GuidanceTask):
+        points = [p.point for p in task.positions]
+        pivots = list(task.circle_points) + list(task.centre_points)
+    else:
+        points = list(task.points)
+        given = dict(task.given)
+        pivots = [(given[k + "x"], given[k + "y"]) for k in ("a0", "a1", "b1", "b0") if k + "x" in given
+                  and k + "y" in given]
+    extent = _spread(points + pivots)
+    size = _spread(points) or extent or 1.0
+    return size, max(extent, size)
+
+
+def _settle(sols, tol: float, ratio: float, size: float, extent: float, what: str):
+    """The solutions re-evaluated by the kernel (their defects beyond the tolerance added) and the degenerate
+    groups, which leave the list."""
+    kept, members = [], {}
+    for s in sols:
+        key = vf.degenerate_kind(s.fourbar, s.poses, extent, size, ratio)
+        if key is not None:
+            members.setdefault(key, []).append(s)
+            continue
+        if s.claim is None:
+            kept.append(replace(s, size=size))
+            continue
+        errors, defects = vf.check(s.fourbar, s.claim, tol, size, what, s.defects)
+        kept.append(replace(s, residuals=errors, equation_residuals=s.residuals, size=size,
+                            checks=replace(s.checks, defects=s.checks.defects + defects)))
+    groups = tuple(vf.group(k, members[k], extent, ratio) for k in vf.GROUPS if k in members)
+    return kept, groups
+
+
+def _claim(checks: Checks, **what) -> vf.Claim:
+    """The claim of a solution: at its crank angles (from the checks), ``what`` (points, turns, pins)."""
+    return vf.Claim(tuple(math.radians(a) for a in checks.crank_angles_deg), **what)
 
 
 def _transmission_warning(s: Solution, limit: float) -> Solution:
@@ -168,10 +284,12 @@ def _score(s: Solution):
 
 # -- guidance --------------------------------------------------------------------------------
 
-def _guidance(task: GuidanceTask, method: str = "exact", seeds: int = 64):
+def _guidance(task: GuidanceTask, size: float, method: str = "exact", seeds: int = 64):
     positions = list(task.positions)
     n = len(positions)
     notes = []
+    wanted = {"points": tuple(p.point for p in positions),
+              "turns": tuple(p.angle - positions[0].angle for p in positions), "size": size}
     if n == 3:
         dyads = [gd.dyad(positions, a1) for a1 in task.circle_points]
         dyads += [gd.dyad(positions, gd.circle_point(positions, a0)) for a0 in task.centre_points]
@@ -208,12 +326,14 @@ def _guidance(task: GuidanceTask, method: str = "exact", seeds: int = 64):
             n_ = np.array([-math.sin(b.direction), math.cos(b.direction)])
             res = tuple(max(abs(np.linalg.norm(A[j] - a.a0) - a.radius), abs(float(n_ @ (B[j] - B[0]))))
                         for j in range(n))
-            sols.append(Solution(sc, check_slider(sc, A, B), res, poses=_poses(A, B)))
+            checks = check_slider(sc, A, B)
+            sols.append(Solution(sc, checks, res, poses=_poses(A, B), claim=_claim(checks, **wanted)))
             continue
         fb = FourBar(a.a0, a.a1, b.a1, b.a0, positions[0].point)
         res = tuple(max(abs(np.linalg.norm(A[j] - a.a0) - a.radius), abs(np.linalg.norm(B[j] - b.a0) - b.radius))
                     for j in range(n))
-        sols.append(Solution(fb, check(fb, A, B), res, poses=_poses(A, B)))
+        checks = check(fb, A, B)
+        sols.append(Solution(fb, checks, res, poses=_poses(A, B), claim=_claim(checks, **wanted)))
     return roots, sols, notes
 
 
@@ -239,7 +359,9 @@ def _rotations(task: RotationTask):
     b = fb.lengths[1]
     res = tuple(abs(float(np.linalg.norm(np.subtract(B[j], A[j]))) - b) for j in range(3))
     note = f"inversion (2-109) and Freudenstein's equation agree on the lengths to {agree:.1e}"
-    return 1, [Solution(fb, check(fb, A, B), res, (note,), poses=_poses(A, B))], []
+    checks = check(fb, A, B)
+    pins = tuple(tuple(map(float, b)) for b in B)
+    return 1, [Solution(fb, checks, res, (note,), poses=_poses(A, B), claim=_claim(checks, pins=pins))], []
 
 
 def _function(task: fn.FunctionTask, method: str = "exact", seeds: int = 64):
@@ -257,7 +379,9 @@ def _function(task: fn.FunctionTask, method: str = "exact", seeds: int = 64):
         respaced = fn.respace(task, g) if not err.defects and task.respace else None
         notes = (f"largest structural error {math.degrees(err.largest):.4g}° of rocker rotation "
                  f"({abs(err.largest / task.k_phi):.3g} in y)",) if np.isfinite(err.largest) else ()
-        sols.append(Solution(fb, check(fb, A, B), res, notes, err, respaced, _poses(A, B)))
+        checks = check(fb, A, B)
+        sols.append(Solution(fb, checks, res, notes, err, respaced, _poses(A, B),
+                             claim=_claim(checks, pins=tuple(B))))
     return len(gens), sols, []
 
 
@@ -269,29 +393,78 @@ def generator_fourbar(g: fn.FunctionGenerator, theta: float, phi: float) -> Four
 
 # -- path generation ----------------------------------------------------------------------------
 
-def _path(task: PathTask, method: str = "exact", seeds: int = 64, progress=None):
+def _path(task: PathTask, tol: float, scale: tuple, method: str = "exact", seeds: int = 64, progress=None):
+    """The path routes; ``scale`` is the task's ``(size, extent, max_link_ratio)``."""
+    kind = "exact" if task.exhaustive else pf.check_given(len(task.points), dict(task.given), task.crank)
+    notes = _path_notes(task, tol, kind)
     if not task.exhaustive:
-        return _path_fit(task, method, seeds, progress)
+        roots, sols, more = _path_fit(task, scale, method, seeds, progress)
+        return roots, sols, notes + more
     a0, b0 = task.pivot("a0"), task.pivot("b0")
     found = pt.five_points(task.points, a0, b0, method=method, seeds=seeds, progress=progress)
     sols = []
     for f in found:
         fb = FourBar(a0, f.a1, f.b1, b0, task.points[0])
         A, B = pt.coupler_positions(task.points, f)
-        a_r, b_r = math.dist(f.a1, a0), math.dist(f.b1, b0)
-        res = tuple(max(abs(math.dist(A[j], a0) - a_r), abs(math.dist(B[j], b0) - b_r))
-                    for j in range(len(A)))
-        sols.append(Solution(fb, check(fb, A, B), res, (
+        checks = check(fb, A, B)
+        sols.append(Solution(fb, checks, _crank_residuals(A, B, a0, f.a1, b0, f.b1), (
             "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),),
-            poses=_poses(A, B)))
+            poses=_poses(A, B), claim=_claim(checks, points=task.points)))
     where = (f"on {pt.GRID} × {pt.GRID} grids of (θ12, θ13) and (θ14, θ15)" if method == "exact"
              else f"from {seeds} random starts (fast: some roots may be missing)")
-    return len(found), sols, [f"{len(found)} real solution(s) {where}"]
+    return len(found), sols, notes + [f"{len(found)} real solution(s) {where}"]
 
 
-def _path_fit(task: PathTask, method: str, seeds: int, progress=None):
+def _crank_residuals(A, B, a0, a1, b0, b1) -> tuple[float, ...]:
+    """The error of the crank equations (2-113) at every position: how far each crank's length changes."""
+    a_r, b_r = math.dist(a1, a0), math.dist(b1, b0)
+    return tuple(max(abs(math.dist(A[j], a0) - a_r), abs(math.dist(B[j], b0) - b_r)) for j in range(len(A)))
+
+
+def _path_notes(task: PathTask, tol: float, kind: str) -> list[str]:
+    """Repeated points (within the tolerance: refused where the problem is exact), points in line or on a circle."""
+    P = np.asarray(task.points, dtype=float)
+    size = _spread(P)
+    for j in range(len(P)):
+        for k in range(j):
+            gap = math.dist(P[j], P[k])
+            if gap <= tol * size and kind == "exact":
+                raise InputError(f"points {k + 1} and {j + 1} coincide within the tolerance ({gap:.3g} apart, "
+                                 f"{gap / size:.2g} of the path's size; tolerance {tol:g}): a repeated point adds no "
+                                 "condition, so the problem is not exact; give another point, or a smaller tolerance "
+                                 "if they are meant apart")
+    notes = []
+    if kind != "exact":
+        near = [(k + 1, j + 1) for j in range(len(P)) for k in range(j) if math.dist(P[j], P[k]) <= tol * size]
+        if near:
+            notes.append("points " + ", ".join(f"{a} and {b}" for a, b in near) + f" coincide within the tolerance "
+                         f"{tol:g} of the path's size: each pair counts as one point")
+    off = pf.line_deviation(P)
+    if off <= pf.NEARLY * size and len(pf.on_one_line(P)) <= pf.ON_ONE_LINE:
+        within = f" (within {off / size:.2g} of the path's size)" if off > 0 else ""
+        notes.append(f"the {len(P)} points lie on one line{within}: such points "
+                     "are met in the limit of a translating coupler on endless cranks (roots with pivots running "
+                     "off to infinity: grouped as degenerate, not listed)")
+    circle = pf.on_one_circle(P)
+    if circle is not None and len(P) >= 4:
+        centre, radius, off = circle
+        at = [name for name in ("a0", "b0") if name + "x" in dict(task.given) and name + "y" in dict(task.given)
+              and math.dist(task.pivot(name), centre) <= tol * size]
+        notes.append(f"the {len(P)} points lie on one circle (centre {_point(centre)}, radius {radius:.6g}, within "
+                     f"{off / size:.2g} of the path's size): a crank pivoted at its centre with its pin at the coupler "
+                     "point passes through them all" + (f"; {' and '.join(at)} is that centre, so the four-bars "
+                                                        "through them form a family, not isolated roots"
+                                                        if at else ""))
+    return notes
+
+
+def _point(p) -> str:
+    return f"({p[0]:.6g}, {p[1]:.6g})"
+
+
+def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=None):
     """Table 2-1's other free choices, prescribed input angles, or least squares (:mod:`.pathfit`); an exact
-    problem with no root found is answered by least squares, and the notes say so."""
+    problem with no root found but degenerate ones is answered by least squares, and the notes say so."""
     given = dict(task.given)
     n = len(task.points)
     kind = pf.check_given(n, given, task.crank)
@@ -299,46 +472,63 @@ def _path_fit(task: PathTask, method: str, seeds: int, progress=None):
     eqs, unknowns, _ = pf.problem_counts(n, task.crank)
     line = pf.on_one_line(task.points)
     notes = []
+    left_out: dict = {}
     if len(line) > pf.ON_ONE_LINE:
         notes.append(f"points {_numbers(line)} lie on one line: a four-bar's coupler curve (a sextic) meets a line "
                      f"in at most {pf.ON_ONE_LINE} points, so no four-bar passes through them all")
-    found = []
+    sols, listed, roots = [], [], 0
     if kind == "exact" and not notes:
         found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress)
-        if not found:
+        sols = [_fit_solution(task, f, "exact") for f in found]
+        listed = [x for x in sols if vf.degenerate_kind(x.fourbar, x.poses, scale[1], scale[0], scale[2]) is None]
+        roots = len(found)
+        note = (f"{len(found)} distinct real root(s) found from {starts} random starts ({eqs} equations, {unknowns} "
+                f"unknowns, {len(given)} given: Table 2-1); roots no start reached are missing")
+        if not listed:
             notes.append(f"no four-bar found through the {n} points exactly ({eqs} equations, {unknowns} unknowns, "
-                         f"{len(given)} given: Table 2-1; {starts} random starts)")
-    if kind == "exact" and not found:
-        kind = "least squares"
-        found = pf.fit(task.points, given, task.crank, starts=starts, least_squares_only=True, progress=progress)
+                         f"{len(given)} given: Table 2-1; {starts} random starts" +
+                         (f"; {len(found)} degenerate root(s) only)" if found else ")"))
+    if kind == "exact" and not listed:
+        found = pf.fit(task.points, given, task.crank, starts=starts, least_squares_only=True, progress=progress,
+                       left_out=left_out)
+        sols += [_fit_solution(task, f, "least squares") for f in found]
         notes.append("answered by least squares: the nearest four-bars, each with its distance from every point"
                      if found else "nor by least squares: no minimum met every point on one assembly mode with links "
                      "of useful length; try more starts (seeds) or other points")
+        kind, roots = "least squares", roots + len(found)
     elif kind == "least squares":
-        found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress)
-    sols = []
-    for f in found:
-        fb = FourBar(f.a0, f.a1, f.b1, f.b0, task.points[0])
-        A, B = pt.coupler_positions(task.points, pt.PathSolution(f.a1, f.b1, f.rotations, f.residual))
-        if kind == "exact":
-            a_r, b_r = math.dist(f.a1, f.a0), math.dist(f.b1, f.b0)
-            res = tuple(max(abs(math.dist(A[j], f.a0) - a_r), abs(math.dist(B[j], f.b0) - b_r))
-                        for j in range(len(A)))
-            extra = ()
-        else:
-            res = curve_distances(fb, task.points)
-            extra = (f"least squares: distance of the points from the coupler curve {max(res):.3g} largest, "
-                     f"{float(np.sqrt(np.mean(np.square(res)))):.3g} RMS",)
-        sols.append(Solution(fb, check(fb, A, B), res, extra + (
-            "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),),
-            poses=_poses(A, B)))
-    if kind == "exact":
-        note = (f"{len(found)} distinct real root(s) found from {starts} random starts ({eqs} equations, {unknowns} "
-                f"unknowns, {len(given)} given: Table 2-1); roots no start reached are missing")
-    else:
+        found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress, left_out=left_out)
+        sols = [_fit_solution(task, f, kind) for f in found]
+        roots = len(found)
+    if kind == "least squares":
         note = (f"least squares: {eqs} equations in {unknowns - len(given)} unknowns (Table 2-1); the {len(found)} "
                 f"best local minima of {starts} random starts")
-    return len(found), sols, notes + [note]
+        if left_out:
+            note += "; left out as degenerate: " + ", ".join(f"{count} {why}" for why, count in left_out.items())
+    return roots, sols, notes + [note]
+
+
+def _fit_solution(task: PathTask, f: pf.PathFit, kind: str) -> Solution:
+    """A solution of :func:`.pathfit.fit` with its checks and its claim: the points at its crank angles (exact),
+    at the prescribed ones (timing), or anywhere on its coupler curve (least squares)."""
+    fb = FourBar(f.a0, f.a1, f.b1, f.b0, task.points[0])
+    A, B = pt.coupler_positions(task.points, pt.PathSolution(f.a1, f.b1, f.rotations, f.residual))
+    checks = check(fb, A, B)
+    extra = ()
+    if task.crank is not None:               # prescribed timing: the kernel drives the crank to those angles
+        first = math.atan2(f.a1[1] - f.a0[1], f.a1[0] - f.a0[0])
+        claim = vf.Claim((first,) + tuple(first + c for c in task.crank), points=task.points)
+    elif kind == "exact":
+        claim = _claim(checks, points=task.points)
+    else:
+        claim = _claim(checks, points=task.points, on_curve=True)
+    if kind != "exact":
+        far = curve_distances(fb, task.points)
+        extra = (f"least squares: distance of the points from the coupler curve {max(far):.3g} largest, "
+                 f"{float(np.sqrt(np.mean(np.square(far)))):.3g} RMS",)
+    return Solution(fb, checks, _crank_residuals(A, B, f.a0, f.a1, f.b0, f.b1), extra + (
+        "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),),
+        poses=_poses(A, B), claim=claim)
 
 
 def _numbers(numbers) -> str:
@@ -347,28 +537,3 @@ def _numbers(numbers) -> str:
     if len(numbers) > 3 and numbers == list(range(numbers[0], numbers[-1] + 1)):
         return f"{numbers[0]} to {numbers[-1]}"
     return ", ".join(map(str, numbers))
-
-
-def curve_distances(fb: FourBar, points) -> tuple[float, ...]:
-    """The distance of each point from the coupler curve of ``fb`` on its drawn assembly mode (the one through the
-    first point): the nearest of 2,880 crank angles, then 400 around it, evaluated by the kernel."""
-    mech = fb.mechanism()
-    grid = np.linspace(-math.pi, math.pi, 2881)
-    b = batch(mech, inputs=grid, outputs=["point:P"])
-    curve = np.c_[b.values["point:P.x"][0], b.values["point:P.y"][0]]
-    pts = np.asarray(points, dtype=float)
-    near = [int(np.nanargmin(np.linalg.norm(curve - p, axis=1))) for p in pts]
-    h = grid[1] - grid[0]
-    local = np.concatenate([np.linspace(grid[k] - 2 * h, grid[k] + 2 * h, 401) for k in near])
-    fine = batch(mech, inputs=local, outputs=["point:P"])
-    xy = np.c_[fine.values["point:P.x"][0], fine.values["point:P.y"][0]].reshape(len(pts), 401, 2)
-    return tuple(min(_polyline_distance(xy[j], p, closed=False), _polyline_distance(curve, p))
-                 for j, p in enumerate(pts))
-
-
-def _polyline_distance(poly: np.ndarray, p: np.ndarray, closed: bool = True) -> float:
-    """The distance from ``p`` to the polyline ``poly`` (segments with a NaN end left out)."""
-    a, b = (poly, np.roll(poly, -1, axis=0)) if closed else (poly[:-1], poly[1:])
-    d = b - a
-    t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
-    return float(np.nanmin(np.linalg.norm(a + t[:, None] * d - p, axis=1)))

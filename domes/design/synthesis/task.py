@@ -68,6 +68,8 @@ class GuidanceTask:
     slider_directions: tuple[float, ...] = ()
     slider: bool = False
     min_transmission_deg: float | None = None
+    tolerance: float | None = None
+    max_link_ratio: float | None = None
 
 
 @dataclass(frozen=True)
@@ -80,6 +82,8 @@ class PathTask:
     crank: tuple[float, ...] | None = None
     name: str = "path"
     min_transmission_deg: float | None = None
+    tolerance: float | None = None
+    max_link_ratio: float | None = None
 
     @property
     def exhaustive(self) -> bool:
@@ -100,6 +104,8 @@ class RotationTask:
     rocker_pin: tuple[float, float]
     name: str = "rotations"
     min_transmission_deg: float | None = None
+    tolerance: float | None = None
+    max_link_ratio: float | None = None
 
 
 def _finite(value) -> bool:
@@ -148,7 +154,29 @@ def task_from_dict(data: dict, where: str = "task"):
                              "'limits': {'min_transmission_deg': ...}")
         task = replace(task, min_transmission_deg=min_transmission(data["min_transmission_deg"],
                                                                    f"{where}: min_transmission_deg"))
+    for key, read in (("tolerance", relative_tolerance), ("max_link_ratio", link_ratio)):
+        if key in data:
+            if isinstance(task, CurveTask):
+                hint = " (its tolerance goes in 'wanted': {'tolerance': ...})" if key == "tolerance" else ""
+                raise InputError(f"{where}: a curve task takes no {key!r}{hint}")
+            task = replace(task, **{key: read(data[key], f"{where}: {key}")})
     return task
+
+
+def relative_tolerance(value, where: str) -> float:
+    """A tolerance relative to the task's size, above 0 and below 1; an InputError naming ``where`` otherwise."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < 1:
+        raise InputError(f"{where}: a tolerance relative to the task's size, above 0 and below 1 (1e-6: a millionth "
+                         f"of it), got {shown(value)}")
+    return float(value)
+
+
+def link_ratio(value, where: str) -> float:
+    """The longest link allowed over the task's extent, at least 1; an InputError naming ``where`` otherwise."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 1 <= value < math.inf:
+        raise InputError(f"{where}: the longest link allowed over the task's extent, a finite number of at least 1, "
+                         f"got {shown(value)}")
+    return float(value)
 
 
 def min_transmission(value, where: str) -> float:
@@ -266,6 +294,13 @@ def _path(data: dict, where: str, name: str) -> PathTask:
             raise InputError(f"{where}: 'crank_deg' lists the crank's rotation from point 1 to each later point: "
                              f"{len(pts) - 1} numbers")
         crank = tuple(math.radians(_number({"a": v}, "a", f"{where}: crank_deg")) for v in crank)
+        turns = (0.0,) + crank
+        for j in range(len(turns)):
+            for k in range(j):
+                if abs(math.remainder(turns[j] - turns[k], 2 * math.pi)) <= 1e-9:
+                    raise InputError(f"{where}: crank_deg puts points {k + 1} and {j + 1} at one crank angle (a whole "
+                                     "number of turns apart): a linkage of one degree of freedom has one pose there, "
+                                     "so its coupler point cannot be at two points")
     t = PathTask(pts, tuple(sorted(given.items(), key=lambda kv: PIVOTS.index(kv[0]))), crank, name)
     if t.exhaustive:
         check_path(t.points, t.pivot("a0"), t.pivot("b0"))

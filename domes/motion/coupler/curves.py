@@ -7,7 +7,8 @@ join at the limits), a parallelogram two that cross at its change points.
 :func:`trace` samples every assembly mode (each dyad's sign) over a full turn
 of the input with the kernel, then walks each circuit with the sweep's walker
 (:mod:`~domes.motion.planar.branches`): branch-continuous, limits located to
-the accuracy's ``locate``, branch points passed on the smooth branch. At a
+the accuracy's ``locate`` (the root of the dyad's assembly margin), branch
+points passed on the smooth branch, gaps narrower than a step not stepped over. At a
 limit the walk turns back in the assembly mode that meets it there, so a
 circuit is followed to its end whatever its shape; it closes when it returns
 to its start in its first mode.
@@ -264,7 +265,7 @@ class _Tracer:
                 state, q = w.state, xs[-1]
                 continue
             stuck = w.stuck
-            limits.append(dead_point(self.cont, stuck))
+            limits.append(walker.limit(stuck) or dead_point(self.cont, stuck))
             last = (xs[-1], {v: a[-1] for v, a in values.items()}) if w.count else (q, state)
             legs.append(self._approach(last[1], last[0], stuck.good))
             state, q = self._turn(stuck)

@@ -25,7 +25,7 @@ scalar code, which locates the dead point.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -47,6 +47,8 @@ class Compiled:
 class Run:
     """Positions on an array of inputs: ``values`` (variable -> array), the dyads' ``roots``, the first failure.
 
+    ``margins`` are the dyads' signed assembly margins (lengths; their roots
+    are the limits, see :class:`~domes.motion.planar.kernel.Poses`).
     ``failure`` is ``(index, kind, group)`` with ``kind`` ``limit``,
     ``undetermined`` or ``jump``; values at and after it are not meaningful.
     """
@@ -54,6 +56,7 @@ class Run:
     values: dict
     roots: dict
     failure: tuple | None
+    margins: dict = field(default_factory=dict)
 
     def state(self, index: int) -> dict:
         """The scalar state (variable -> value) of one configuration."""
@@ -110,7 +113,8 @@ def positions_many(compiled: Compiled, joint: str, qs, start: dict, others: dict
             change = np.abs(np.diff(path)) / (1.0 if v.startswith("rot:") else kin.size)
             fail(np.concatenate(([False] if not jumps else [], ~(change <= JUMP))), "jump", g)
     roots = {i: np.broadcast_to(r, (n,)) for i, r in pose.root.items()}
-    return Run(values, roots, first)
+    margins = {i: np.broadcast_to(r, (n,)) for i, r in pose.margin.items()}
+    return Run(values, roots, first, margins)
 
 
 def _stack(kin, g, values, rates=None):

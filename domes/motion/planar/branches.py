@@ -32,11 +32,12 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.optimize import brentq
 
 from domes.motion.planar.arrays import Compiled, motion_many, positions_many
 from domes.motion.planar.continuation import Continuation, DeadPoint, DeadPointKind, Stuck
 from domes.motion.planar.kernel import SIGNED
-from domes.motion.planar.query import sign_key
+from domes.motion.planar.query import FailureKind, sign_key
 
 #: A normalised root below this cannot be told from zero (its square is computed to a few ε).
 ROOT_FLOOR = 1e-7
@@ -44,6 +45,18 @@ ROOT_FLOOR = 1e-7
 CHUNK = 1 << 16
 #: Samples per round when a branch point is located (each round shrinks the bracket eightfold).
 SAMPLES = 17
+#: Brent's relative tolerance on a located limit (the least :func:`scipy.optimize.brentq` accepts).
+RTOL = 4 * np.finfo(float).eps
+#: Rounding of a dyad's assembly margin, in units of ε times the mechanism's size: the margin is a difference of
+#: lengths each computed through a few rotations and sums of the drawn coordinates (a generous bound).
+MARGIN_ROUNDING = 64
+
+
+@dataclass(frozen=True)
+class Gap:
+    """The walk's arrays stepped over inputs that do not assemble: ``input`` is the first such one sampled."""
+
+    input: float
 
 
 @dataclass
@@ -100,6 +113,19 @@ class Walker:
             run = self.positions(xs, lead[0][1])
             failed = max(run.failure[0], first) if run.failure else xs.size
             turn = self._bifurcation(xs, run, first, failed, found, pts[-1])
+            if isinstance(turn, Gap):
+                # the last point before the gap; the scalar code walks into it and locates its first limit
+                direction = 1.0 if xs[-1] >= xs[0] else -1.0
+                j = max((k for k in range(min(failed, xs.size)) if (turn.input - xs[k]) * direction > 0), default=0)
+                pieces.append(_piece(run, first, j + 1))
+                i += max(j + 1 - first, 0)
+                base = run.state(j)
+                try:
+                    self.cont.reach(base, xs[j], turn.input)
+                except Stuck as st:
+                    return Walk(self._join(pieces), i, base, st, found)
+                lead = [(xs[k], run.state(k)) for k in range(max(j - 1, 0), j + 1)]
+                continue
             if turn is not None:
                 kk, q, state = turn
                 pieces.append(_piece(run, first, kk))
@@ -124,6 +150,54 @@ class Walker:
             if tick:
                 tick(i, n)
         return Walk(self._join(pieces), n, lead[-1][1], None, found)
+
+    # -- limits ---------------------------------------------------------------------------
+
+    def limit(self, st: Stuck) -> DeadPoint | None:
+        """The limit where the walk stuck, located by Brent's method on the failing dyad's assembly margin.
+
+        The margin (a length, positive where the dyad assembles) is bracketed
+        between the walk's last solved input (moved back until the margin is
+        positive, should the dyad's rounding slack have let the walk a little
+        beyond the limit) and the input it could not reach. ``within`` is
+        Brent's tolerance (half the accuracy's ``locate``) plus the rounding
+        of the margin over its slope. None when the walk stuck for another
+        reason (no dyad's margin changes sign there).
+        """
+        f = st.failure
+        g = getattr(f, "group", None)
+        if f.kind != FailureKind.LIMIT or g is None or g.index not in self.kin.plans or \
+                self.kin.plans[g.index].kind not in SIGNED:
+            return None
+        base = st.state
+
+        def margin(x):
+            run = self.positions(np.array([x]), base)
+            return float(run.margins[g.index][0]) if g.index in run.margins else math.nan
+
+        good, bad = float(st.good), float(st.bad)
+        direction = 1.0 if bad >= good else -1.0
+        step = max(abs(bad - good), 1e-3 * self.cont.locate)
+        fg, fb = margin(good), margin(bad)
+        while not fg >= 0.0 and step <= self.cont.h:  # the slack let the walk past the limit: step back
+            good -= direction * step
+            fg = margin(good)
+            step *= 2
+        if not (fg >= 0.0 and fb < 0.0):
+            return None
+        xtol = 0.5 * self.cont.locate
+        root = good if fg == 0.0 else brentq(margin, good, bad, xtol=xtol, rtol=RTOL)
+        wide = max(abs(bad - good), 1e-6 * self.scale)
+        slope = abs(margin(root - direction * wide) - margin(root + direction * wide)) / (2 * wide)
+        rounding = MARGIN_ROUNDING * np.finfo(float).eps * self.kin.size / slope if slope > 0 else math.inf
+        if not math.isfinite(rounding):
+            return None
+        within = xtol + RTOL * abs(root) + rounding
+        c = self.cont
+        return DeadPoint(root, within, DeadPointKind.LIMIT, g.label, g.joints,
+                         f"{f}; the input cannot pass {c.fmt(root)} ± {c.fmt(within)} (the root of the dyad's "
+                         f"assembly condition, by Brent's method; last solved {c.fmt(st.good)}): a limit (dead) "
+                         "position")
 
     # -- bifurcations --------------------------------------------------------------------
 
@@ -157,14 +231,16 @@ class Walker:
                 return None
             k, g = cand
             located = self._locate(xs, run, k, g)
-            if located is None:
-                continue
+            if isinstance(located, Gap):
+                if (last - located.input) * direction >= 0:
+                    return located
+                continue  # the gap begins beyond the walk's last point
             q, within, is_zero = located
             if not is_zero or (last - q) * direction <= within:
                 continue  # not a branch point, or not passed (the walk ends on or before it)
             at = self.positions([q], run.state(k - 1))
             if at.failure is not None:
-                continue
+                return Gap(q)
             here = at.state(0)
             flip, text = self._follow(here, q, within, xs[k + 1] - xs[k - 1], g)
             found.append(DeadPoint(q, within, DeadPointKind.BIFURCATION, g.label, g.joints, text))
@@ -196,7 +272,8 @@ class Walker:
         return best
 
     def _locate(self, xs, run, k, g):
-        """``(input, within, is_zero)`` of the root's minimum in ``(xs[k-1], xs[k+1])``, or None if it cannot be sampled."""
+        """``(input, within, is_zero)`` of the root's minimum in ``(xs[k-1], xs[k+1])``, or a :class:`Gap` where a
+        sample there does not assemble (or would jump)."""
         r = run.roots[g.index]
         slope = max(abs(r[k] - r[k - 1]) / abs(xs[k] - xs[k - 1]), abs(r[k + 1] - r[k]) / abs(xs[k + 1] - xs[k]))
         lo, hi, base = xs[k - 1], xs[k + 1], run.state(k - 1)
@@ -206,7 +283,8 @@ class Walker:
             ts = np.linspace(lo, hi, SAMPLES)
             sub = self.positions(ts, base)
             if sub.failure is not None:
-                return None
+                self.seen[-1] = q
+                return Gap(float(ts[sub.failure[0]]))
             rr = sub.roots[g.index]
             j = int(np.argmin(rr))
             q, rmin = ts[j], rr[j]

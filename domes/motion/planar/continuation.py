@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from enum import StrEnum
 
 from domes.errors import InputError, NumericalError
-from domes.motion.planar.query import Kinematics, SolveFailure
+from domes.motion.planar.query import PRESETS, FailureKind, Kinematics, SolveFailure
 
 
 class DeadPointKind(StrEnum):
@@ -131,10 +131,29 @@ class Continuation:
             state = self.reach(state, qa + (qb - qa) * (k - 1) / n, qa + (qb - qa) * k / n)
         return state
 
+    def walk_far(self, state, qa, qb):
+        """:meth:`walk`, and where it sticks for Newton's method, again from ``qa`` with positions to rounding.
+
+        With a loose ``tol`` Newton's method accepts a pose a little off, and
+        near a limit one a little beyond it, where none closes (0.01° beyond
+        with ``tol`` 1e-2): the walk is taken again with positions to rounding,
+        which stop only at the limit itself, so a limit and its ``within`` are
+        those of the mechanism, not of the tolerance.
+        """
+        try:
+            return self.walk(state, qa, qb)
+        except Stuck as st:
+            exact = PRESETS["exact"]
+            if self.kin.accuracy.tol <= exact.tol or st.failure.kind not in (FailureKind.NEWTON, FailureKind.LIMIT):
+                raise
+            fine = Continuation(self.kin.with_accuracy(exact), self.joint, self.fixed)
+            fine.h, fine.locate = self.h, self.locate
+            return fine.walk(state, qa, qb)
+
     def start(self, q):
         """State at ``q`` reached from the drawn pose."""
         try:
-            return self.walk(dict(self.kin.structure.drawn), self.q0, q)
+            return self.walk_far(dict(self.kin.structure.drawn), self.q0, q)
         except Stuck as st:
             raise self.unreachable(q, st) from None
 

@@ -99,7 +99,9 @@ class Poses:
 
     ``links[name] = (R, W, P)``; ``slides[joint]``; ``unassembled`` and
     ``undetermined`` are masks by group index, ``root`` the dyads' normalised
-    discriminants, ``closure`` each dyad's loop-closure error (absolute).
+    discriminants, ``margin`` their signed assembly margins (a length, positive
+    where the dyad assembles, negative beyond a limit, not clamped: its root
+    is the limit), ``closure`` each dyad's loop-closure error (absolute).
     """
 
     links: dict
@@ -109,6 +111,7 @@ class Poses:
     unassembled: dict = field(default_factory=dict)
     undetermined: dict = field(default_factory=dict)
     root: dict = field(default_factory=dict)
+    margin: dict = field(default_factory=dict)
     closure: dict = field(default_factory=dict)
 
     def world(self, geom: Geometry, link: str, name: str):
@@ -267,12 +270,13 @@ class Program:
         A, C = pose.world(geom, ka, a.name), pose.world(geom, kc, c.name)
         kind = plan.kind
         bad = undetermined = False
-        root = None
+        root = margin = None
         if kind == "RRR":
             l1, l2 = np.abs(at[b.name] - at[a.name]), np.abs(at[b.name] - at[c.name])
             D = C - A
             d = np.abs(D)
             undetermined = d == 0.0
+            margin = np.minimum(l1 + l2 - d, d - np.abs(l1 - l2))
             near = np.where(d > l1 + l2, d - (l1 + l2), np.abs(l1 - l2) - d)
             bad = ((d > l1 + l2) | (d < np.abs(l1 - l2))) & (near > ASSEMBLY_SLACK * 64 * np.maximum(np.maximum(d, l1), l2))
             prod = np.maximum((l1 + d + l2) * (l1 + d - l2) * (l1 - d + l2) * (-l1 + d + l2), 0.0)
@@ -293,6 +297,7 @@ class Program:
             D = Sp - Gp
             r = np.abs(D)
             diff = (r - np.abs(e)) * (r + np.abs(e))
+            margin = r - np.abs(e)
             bad = diff < -ASSEMBLY_SLACK * r * r * 64
             undetermined = r == 0.0
             t = sign * np.sqrt(np.maximum(diff, 0.0))
@@ -313,6 +318,7 @@ class Program:
             l1 = np.abs(at[b.name] - at[a.name])
             h = np.abs(_cross(u, w))
             diff = (l1 - h) * (l1 + h)
+            margin = l1 - h
             bad = diff < -ASSEMBLY_SLACK * np.maximum(l1, h) ** 2 * 64
             rp = np.sqrt(np.maximum(diff, 0.0))
             tau = -_dot(u, w) + sign * rp
@@ -359,6 +365,7 @@ class Program:
         pose.undetermined[g.index] = np.asarray(undetermined) & ~np.asarray(bad)
         if root is not None:
             pose.root[g.index] = root
+            pose.margin[g.index] = margin
 
     # -- velocities and accelerations -----------------------------------------------------------
 

@@ -156,11 +156,33 @@ def _overconstrained(mech: Mechanism, links, joints, constraints: int, driven) -
     """The error for links held by more constraints than they have freedoms once the known links are placed."""
     inputs = [j.joint for j in mech.inputs]
     what = (f"the inputs {', '.join(inputs)} are not independent: together they fix links {list(links)}, which then "
-            f"have {constraints} constraints for {3 * len(links)} freedoms, and leave another loop free (Yan ch. 3, the "
-            "active pairs of Fig. 3-19: each input must drive a loop of its own); choose inputs in different loops"
+            f"have {constraints} constraints for {3 * len(links)} freedoms{_loop_of(mech, links, joints)}, and leave "
+            "another loop free (Yan ch. 3, the active pairs of Fig. 3-19: each input must drive a loop of its own); "
+            "choose inputs in different loops"
             if len(inputs) > 1 and 3 * (len(mech.links) - 1) - 2 * len(mech.joints) == len(inputs) else
             f"links {list(links)} have {constraints} constraints for {3 * len(links)} freedoms: redundant constraints")
     return InputError(f"{mech.name}: {what}")
+
+
+def _loop_of(mech: Mechanism, links, joints) -> str:
+    """`` in the loop A–B–C (joints ...)``: the shortest loop through ``links`` of the joints that over-constrain
+    them and those among the links already placed ('' when there is none)."""
+    import networkx as nx
+
+    near = {x for j in joints for x in j.links} | {mech.ground}
+    g = nx.Graph()
+    for j in mech.joints:
+        if j in joints or set(j.links) <= near:
+            g.add_edge(*j.links, joint=j.name)
+    loops = [c for c in nx.cycle_basis(g) if set(links) <= set(c)]
+    if not loops:
+        return ""
+    loop = min(loops, key=len)
+    if mech.ground in loop:                                   # read from the frame
+        k = loop.index(mech.ground)
+        loop = loop[k:] + loop[:k]
+    names = [g.edges[a, b]["joint"] for a, b in zip(loop, loop[1:] + loop[:1])]
+    return f" in the loop {'–'.join(loop)} (joints {', '.join(names)})"
 
 
 def _class_of(mech: Mechanism, links, joints) -> str:

@@ -6,7 +6,11 @@ continuing the previous one, so the assembly mode is the drawn one. A
 configuration that cannot be solved is refined by halving (seed 000, §4:
 "by refining the step size one can determine the singular positions"), down
 to the accuracy's ``locate``: the sweep then stops and reports the limit
-(dead) position with the group and joints concerned.
+(dead) position with the group and joints concerned. A dyad's limit is the
+root of its assembly margin, found by Brent's method
+(:meth:`~domes.motion.planar.branches.Walker.limit`); its ``within`` adds the
+margin's rounding, so it is a bound, not a hope. ``solve`` (``--at``) walks
+from the drawn pose as a sweep does, so the two agree.
 
 A query of drivers and dyads runs on arrays (:mod:`~domes.motion.planar.branches`):
 the whole grid at once, scalar code only where a decision is needed, and
@@ -236,7 +240,7 @@ def _vector_sweep(kin, cont, qs, progress) -> Sweep:
     dead = list(w.branch_points)
     status = Status.COMPLETE
     if w.stuck is not None:
-        dead.append(dead_point(cont, w.stuck))
+        dead.append(walker.limit(w.stuck) or dead_point(cont, w.stuck))
         status = Status.STOPPED
     inputs = pts[reached]
     if inputs.size:
@@ -307,7 +311,7 @@ def _scalar_sweep(kin, cont, qs, progress) -> Sweep:
     for number, q in enumerate(qs, 1):
         clock.tick(lambda: f"step {number}/{len(qs)}: input {cont.fmt(q)}")
         try:
-            state = cont.walk(state, qa, q)
+            state = cont.walk_far(state, qa, q)
         except Stuck as st:
             dead.append(dead_point(cont, st))
             status = Status.STOPPED

@@ -30,6 +30,7 @@ analytic. Lengths are scaled by the mechanism's size inside.
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -44,6 +45,9 @@ TOL = 1e-13
 MAX_ITERATIONS = 50
 #: Newton gives up after this many steps in a row that do not halve the residual.
 STALL = 4
+#: A residual (relative to the size) this small is closure to rounding: Newton stops there even when its
+#: correction, near a singular pose, cannot fall below :data:`TOL`.
+ROUNDING = 1e-15
 #: Beyond this condition number of the scaled Jacobian the configuration is reported singular.
 SINGULAR = 1e8
 
@@ -367,6 +371,14 @@ class Loops:
             return self._angle(j, s, xd)
         return self._scalar(self._slide_eq(j), s, xd)
 
+    def driven_by(self, inputs) -> "Loops":
+        """The same loops with other driven variables (:class:`~domes.model.spatial.SpatialInput`), not checked
+        for mobility in the drawn pose: near a limit of the input another joint is the better parameter
+        (:mod:`~domes.motion.spatial.limits`)."""
+        other = copy.copy(self)
+        other.inputs = list(inputs)
+        return other
+
     # -- solving ----------------------------------------------------------------------------------
 
     def key(self, i) -> str:
@@ -407,6 +419,10 @@ class Loops:
         for _ in range(MAX_ITERATIONS):
             J, f = self._jacobian(s, values)
             size = float(np.max(np.abs(f))) if f.size else 0.0
+            if size <= ROUNDING and last < math.inf:
+                # Closed to rounding: near a singular pose the correction stays at cond·ε above TOL however
+                # long Newton runs, yet no float pose closes better (its error is at most cond × residual).
+                return s, size
             slow = slow + 1 if size > 0.5 * last else 0
             if slow >= STALL:        # no longer converging quadratically: no solution near the guess
                 break

@@ -26,13 +26,13 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from domes.errors import InputError
 from domes.model.spatial import SpatialMechanism
+from domes.motion.spatial.trig import negative
 
-#: Samples per turn when looking for the ranges where the linkage does not assemble.
-SAMPLES = 7200
+#: Rounding of the discriminant, in units of ε times ``E² + F² + G²``: a dip no deeper is a tangency, not a gap.
+ROUNDING = 64
 
 
 def _rotate(u: np.ndarray, v: np.ndarray, angle):
@@ -165,28 +165,15 @@ class RSSR:
     # -- mobility ------------------------------------------------------------------------------
 
     def gaps(self, side: str = "input") -> tuple[tuple[float, float], ...]:
-        """The angle ranges (rad, in [0, 2π)) of the crank (``input``) or rocker (``output``) where the linkage
-        does not assemble, their ends located by root finding."""
+        """The angle ranges (rad, in [0, 2π]) of the crank (``input``) or rocker (``output``) where the linkage
+        does not assemble: the discriminant is a trigonometric polynomial of degree two, so its sign changes are
+        found exactly (:func:`~domes.motion.spatial.trig.negative`, no sampling grid), each end by Brent's method to
+        the discriminant's rounding over its slope (about 1e-15 rad where it crosses zero steeply, more at the ends
+        of a narrow gap); a dip no deeper than its rounding (a change point) is no gap."""
         link = self if side == "input" else RSSR(self.ub, self.B0, self.B1, self.ua, self.A0, self.A1, self.L2)
-        grid = np.linspace(0.0, 2 * math.pi, SAMPLES + 1)
-        d = link.discriminant(grid)
-        scale = max(float(np.max(np.abs(d))), 1e-300)
-        bad = d < -1e-12 * scale
-        if not bad.any():
-            return ()
-        if bad.all():
-            return ((0.0, 2 * math.pi),)
-        ends = []
-        for k in np.flatnonzero(bad[1:] != bad[:-1]):
-            ends.append((brentq(link.discriminant, grid[k], grid[k + 1], xtol=1e-15), bool(bad[k + 1])))
-        # ranges start where bad begins
-        starts = [x for x, begins in ends if begins]
-        stops = [x for x, begins in ends if not begins]
-        if bad[0]:
-            starts = [0.0] + starts
-        if bad[-1]:
-            stops = stops + [2 * math.pi]
-        return tuple(zip(starts, stops))
+        parts = np.array(link.coefficients(np.arange(8) * math.pi / 4))
+        floor = ROUNDING * np.finfo(float).eps * float(np.max(np.sum(parts * parts, axis=0)))
+        return negative(link.discriminant, floor)
 
     def motion_type(self) -> MotionType:
         """Crank or rocker on each side (seed 001 §2.2, as the digest makes it implementable)."""

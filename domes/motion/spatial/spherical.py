@@ -10,7 +10,9 @@ between its two axes: ``u(θ)·w(ψ) = u0·w0``, which is
     A cos ψ + B sin ψ = C,   ψ = atan2(B, A) ± acos(C / √(A² + B²))
 
 (digest seed-004 §2.7, the spherical image of an RCCC). It assembles where
-``A² + B² ≥ C²``. Rates follow from the same condition differentiated.
+``A² + B² ≥ C²``; that discriminant is a trigonometric polynomial of degree
+two in θ, so the ranges where it is negative (:meth:`SphericalFourBar.gaps`)
+are found exactly. Rates follow from the same condition differentiated.
 
 >>> import numpy as np
 >>> s = SphericalFourBar.make((1, 0, 0), (0.6, 0.8, 0), (0.1, 0.4, 0.9), (0.3, 0.3, 0.9))
@@ -27,6 +29,10 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.model.spatial import SpatialMechanism
+from domes.motion.spatial.trig import negative
+
+#: Rounding of the discriminant, in units of ε times ``A² + B² + C²``: a dip no deeper is a tangency, not a gap.
+ROUNDING = 64
 
 
 def _rotate(axis, angle, x):
@@ -118,11 +124,26 @@ class SphericalFourBar:
                 + pd ** 2 * dot(u, ddw)) / den
         return pd, pdd
 
-    def input_turns_fully(self, samples: int = 7200) -> bool:
-        """Whether the input can turn fully (the linkage assembles at every θ, sampled)."""
-        theta = np.linspace(0.0, 2 * math.pi, samples + 1)
+    def discriminant(self, theta):
+        """``A² + B² − C²``: the linkage assembles at ``theta`` where it is ≥ 0 (the two modes meet at 0)."""
         A, B, C = self.coefficients(theta)
-        return bool(np.all(A * A + B * B >= C * C))
+        return A * A + B * B - C * C
+
+    def gaps(self) -> tuple[tuple[float, float], ...]:
+        """The input angle ranges (rad, in [0, 2π]) where the linkage does not assemble, found exactly: the
+        discriminant is a trigonometric polynomial of degree two (:func:`~domes.motion.spatial.trig.negative`);
+        a dip no deeper than its rounding (a change point) is no gap."""
+        A, B, C = self.coefficients(np.arange(8) * math.pi / 4)
+        floor = ROUNDING * np.finfo(float).eps * float(np.max(A * A + B * B + C * C))
+        return negative(self.discriminant, floor)
+
+    def input_turns_fully(self) -> bool:
+        """Whether the input can turn fully: the linkage assembles at every θ (no gap, found exactly).
+
+        >>> SphericalFourBar.make((0, 0, 1), (0.1, 0, 1), (0.5, 0.5, 1), (0.6, 0, 1)).input_turns_fully()
+        True
+        """
+        return not self.gaps()
 
 
 __all__ = ["SphericalFourBar"]

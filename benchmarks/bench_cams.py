@@ -1,0 +1,93 @@
+"""Cams, motion laws and Geneva wheels beside the linkage kernel (issue 26).
+
+Run ``python benchmarks/bench_cams.py``. It prints, in one table, the median
+of ``--repeat`` runs of:
+
+- a disc cam's design (profile, pressure angle, radius of curvature) at
+  ``--steps`` points, for a translating roller and an oscillating roller
+  follower;
+- the follower's motion on it (``domes.design.cam.follow``) at ``--steps``
+  angles, from the exact pitch curve and from the profile's points, with
+  the largest error of lift, velocity and acceleration against the law;
+- the Geneva wheel's closed form at ``--steps`` angles;
+- a four-bar driven by a motion law in time (``domes.motion.planar.timed``)
+  at ``--steps`` times;
+- beside them, the kinematics kernel's sweep of the same four-bar over
+  ``--steps`` steps (positions, and order 2).
+
+No peer designs cams or Geneva wheels; the kernel's own sweep is the yardstick.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from bench_kernel import median_time  # noqa: E402
+
+from domes.design.cam import Follower, design_cam, follow  # noqa: E402
+from domes.execution.threads import limited_threads  # noqa: E402
+from domes.motion.geneva import Geneva  # noqa: E402
+from domes.motion.laws import Motion  # noqa: E402
+from domes.motion.planar.examples import four_bar  # noqa: E402
+from domes.motion.planar.sweep import sweep  # noqa: E402
+from domes.motion.planar.timed import timed  # noqa: E402
+
+
+def rows(steps: int, repeat: int) -> list[tuple[str, float, str]]:
+    out = []
+    th = np.linspace(0, 2 * math.pi, steps, endpoint=False)
+    cases = [
+        ("translating roller", Motion.cam([("cycloidal", 120, 20), ("dwell", 60), ("3-4-5", 120, -20), ("dwell", 60)]),
+         Follower("translating", "roller", roller=10, offset=5)),
+        ("oscillating roller", Motion.cam([("cycloidal", 120, math.radians(15)), ("dwell", 60),
+                                           ("3-4-5", 120, -math.radians(15)), ("dwell", 60)]),
+         Follower("oscillating", "roller", roller=8, pivot=100, arm=80)),
+    ]
+    for name, law, f in cases:
+        t, cam = median_time(lambda: design_cam(law, f, 40, points=steps), repeat)
+        out.append((f"cam design, {name}", t, f"largest pressure angle {cam.max_pressure_angle_deg:.2f}°"))
+        want = law.evaluate(th)
+        for source, label in ((cam, "exact pitch curve"), (cam.profile, f"{steps} profile points")):
+            t, got = median_time(lambda: follow(source, f, 40, th), repeat)
+            err = [float(np.max(np.abs(a - b))) for a, b in zip((got.s, got.ds, got.dds), want)]
+            out.append((f"follower on the cam, {name}, {label}", t,
+                        f"errors: lift {err[0]:.1e}, velocity {err[1]:.1e}, acceleration {err[2]:.1e}"))
+    g = Geneva(4)
+    t, _ = median_time(lambda: g.wheel(th), repeat)
+    out.append(("Geneva wheel, 4 slots (closed form)", t, ""))
+    law = Motion([("3-4-5", 0.4, 2.0), ("dwell", 0.2), ("simple harmonic", 0.4, -2.0)])
+    times = np.linspace(0, 1, steps)
+    t, run = median_time(lambda: timed(four_bar(), law, times, outputs=["angle:rocker"]), repeat)
+    out.append(("four-bar driven by a motion law in time (order 2)", t, f"max residual {np.max(run.residuals):.1e}"))
+    for order in (0, 2):
+        t, sw = median_time(lambda: sweep(four_bar(), 0.0, 2 * math.pi, 2 * math.pi / steps, outputs=["angle:rocker"],
+                                      order=order), repeat)
+        out.append((f"kernel sweep of the four-bar, order {order} (yardstick)", t, f"{sw.inputs.size} steps"))
+    return out
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--steps", type=int, default=3600, help="points, angles or times of each run (default 3600)")
+    p.add_argument("--repeat", type=int, default=5, help="runs of each, the median reported (default 5)")
+    args = p.parse_args(argv)
+    with limited_threads():
+        table = rows(args.steps, args.repeat)
+    print(f"| run ({args.steps} steps) | median time | quality |")
+    print("|---|---|---|")
+    for name, t, note in table:
+        print(f"| {name} | {t * 1e3:.1f} ms | {note} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,69 @@
+"""The catalogue file: ``catalogue.toml`` of the knowledge folder and the mechanism files of ``catalogue/``.
+
+Format in ``docs/catalogue.md``; every error names the file and the line.
+
+>>> entries = load_catalogue()
+>>> sorted({e.motion[1] for e in entries})[:2]
+['intermittent rotation', 'oscillation']
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from domes.errors import DomesError, InputError
+from domes.io.mechanisms import load_mechanism
+from domes.io.resources import knowledge_dir
+from domes.io.tomlsource import TomlSource
+from domes.knowledge.catalogue import Entry
+
+_KEYS = {"name", "motion", "model", "measure", "source", "description", "parameters"}
+
+
+def load_catalogue(folder: str | Path | None = None) -> list[Entry]:
+    """The entries of ``catalogue.toml`` in the knowledge folder (``folder``, else the shipped one)."""
+    root = knowledge_dir(folder)
+    path = root / "catalogue.toml"
+    src = TomlSource.read(path)
+    items = src.data.get("mechanism", [])
+    if not isinstance(items, list) or not items:
+        raise src.error("expected [[mechanism]] tables")
+    unknown = set(src.data) - {"mechanism"}
+    if unknown:
+        raise src.error(f"unknown key(s) {', '.join(sorted(unknown))}: only [[mechanism]] tables", src.line_of(
+            sorted(unknown)[0]))
+    out, names = [], set()
+    for i, raw in enumerate(items):
+        line = src.table_line("mechanism", i)
+        if not isinstance(raw, dict):
+            raise src.error("a [[mechanism]] must be a table", line)
+        extra = set(raw) - _KEYS
+        if extra:
+            raise src.error(f"unknown key(s) {', '.join(sorted(extra))} (known: {', '.join(sorted(_KEYS))})", line)
+        for key in ("name", "motion", "model", "measure"):
+            if key not in raw:
+                raise src.error(f"[[mechanism]] {raw.get('name', i + 1)!r}: '{key}' is missing", line)
+        name = raw["name"]
+        if not isinstance(name, str) or not name.strip() or name in names:
+            raise src.error(f"a mechanism's name must be a new, non-empty text, got {name!r}", line)
+        names.add(name)
+        model, mechanism = raw["model"], None
+        if not isinstance(model, str) or not model:
+            raise src.error(f"{name}: 'model' must be a mechanism file's name or geneva or cam", line)
+        if model.endswith(".json"):
+            file = root / "catalogue" / model
+            if Path(model).name != model:
+                raise src.error(f"{name}: the model file {model!r} must be a name in catalogue/", line)
+            mechanism = load_mechanism(file)
+            model = "mechanism"
+        if not isinstance(raw["measure"], dict) or not isinstance(raw.get("parameters", {}), dict):
+            raise src.error(f"{name}: 'measure' and 'parameters' must be tables", line)
+        motion = raw["motion"]
+        if not isinstance(motion, list):
+            raise src.error(f"{name}: 'motion' must be [input, output]", line)
+        try:
+            out.append(Entry(name, tuple(motion), model, dict(raw["measure"]), str(raw.get("source", "")),
+                             str(raw.get("description", "")), mechanism, dict(raw.get("parameters", {}))))
+        except DomesError as exc:
+            raise InputError(f"{path}:{line}: {exc}") from None
+    return out

@@ -1,0 +1,163 @@
+"""The catalogue of standard mechanisms (issue 26, item 7; seed 002 ch. 1 system search, §5-1 second class).
+
+Each entry's claimed property is measured on its model and checked here by an
+independent closed form: the four-bars' coupler points by circle
+intersection with numpy, the quick return's time ratio from its geometry,
+the Geneva wheel from the pin's position in the slot.
+"""
+
+import json
+import math
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from domes.design.catalogue import measure, propose
+from domes.errors import InputError
+from domes.io.catalogue import load_catalogue
+from domes.io.resources import knowledge_dir
+from domes.knowledge.catalogue import requirement
+from domes.motion.geneva import Geneva
+
+CATALOGUE = {e.name: e for e in load_catalogue()}
+
+
+def coupler_path(a0, b0, crank, coupler, rocker, point, angles, mode):
+    """The coupler point of a four-bar by circle intersection: crank pin on a circle about a0, rocker pin at
+    ``coupler`` from it and ``rocker`` from b0 on the side ``mode`` (±1); ``point`` (u, v) in the coupler's frame
+    (u along crank pin → rocker pin)."""
+    a = np.asarray(a0) + crank * np.c_[np.cos(angles), np.sin(angles)]
+    v = np.asarray(b0) - a
+    r = np.linalg.norm(v, axis=1)
+    x = (coupler ** 2 - rocker ** 2 + r ** 2) / (2 * r)
+    h = np.sqrt(coupler ** 2 - x ** 2)
+    u = v / r[:, None]
+    n = np.c_[-u[:, 1], u[:, 0]]
+    b = a + x[:, None] * u + mode * h[:, None] * n
+    e = (b - a) / coupler
+    en = np.c_[-e[:, 1], e[:, 0]]
+    return a + point[0] * e + point[1] * en
+
+
+def deviation(xy):
+    c = xy - xy.mean(axis=0)
+    _, _, vt = np.linalg.svd(c)
+    along = c @ vt[0]
+    return np.max(np.abs(c @ vt[1])) / (along.max() - along.min()) * 100, along.max() - along.min()
+
+
+@pytest.mark.parametrize("name, geometry, lo, hi", [
+    # (a0, b0, crank, coupler, rocker, point (u, v), mode)
+    ("Chebyshev straight-line linkage", ((0, 0), (2, 0), 2.5, 1.0, 2.5, (0.5, 0.0), -1), 37, 93),
+    ("Hoeken straight-line linkage", ((0, 0), (2, 0), 1.0, 2.5, 2.5, (5.0, 0.0), -1), 90, 270),
+    ("Watt straight-line linkage", ((-1, 0.5), (1, -0.5), 1.0, 1.0, 1.0, (0.5, 0.0), -1), -26, 22),
+    ("Roberts straight-line linkage", ((0, 0), (2, 0), 1.2, 1.0, 1.2, (0.5, -math.sqrt(1.2 ** 2 - 0.25)), -1), 30, 78),
+])
+def test_straight_line_linkages_against_circle_intersection(name, geometry, lo, hi):
+    got = measure(CATALOGUE[name])
+    angles = np.radians(np.arange(lo, hi + 1e-9, 0.05))
+    modes = [coupler_path(*geometry[:6], angles, m) for m in (-1, 1)]
+    drawn = np.array([float(v) for v in CATALOGUE[name].mechanism.to_dict()["points"][0]["at"]])
+    # the assembly mode whose path passes nearest the drawn coupler point
+    path = min(modes, key=lambda p: np.min(np.linalg.norm(p - drawn, axis=1)))
+    dev, length = deviation(path)
+    assert got["straight-line deviation"].value == pytest.approx(dev, rel=1e-6)
+    assert got["straight length"].value == pytest.approx(length, rel=1e-9)
+    assert dev < 1.5                                        # nearly straight: the catalogue's claim
+
+
+def test_hoeken_runs_straight_for_half_a_turn_over_twice_its_frame():
+    got = measure(CATALOGUE["Hoeken straight-line linkage"])
+    assert got["straight length"].value == pytest.approx(4.0, abs=1e-6)     # from x = 4 to x = 0 at y = 4
+
+
+def test_slider_crank_yoke_and_tangent_against_closed_forms():
+    assert measure(CATALOGUE["slider-crank"])["stroke"].value == pytest.approx(2.0, abs=1e-12)      # 2 × crank
+    yoke = measure(CATALOGUE["Scotch yoke"])
+    assert yoke["stroke"].value == pytest.approx(2.0, abs=1e-12) and yoke["harmonic deviation"].value < 1e-9
+    tangent = measure(CATALOGUE["tangent mechanism"])
+    assert tangent["tangent deviation"].value < 1e-9
+    assert tangent["stroke"].value == pytest.approx(2 * math.tan(math.radians(40)), rel=1e-12)
+
+
+def test_quick_return_time_ratio_from_its_geometry():
+    # lever extremes where the crank is square to the lever: the quick arc is 2 acos(r/d), r = 1, d = 2
+    psi = math.acos(1 / 2)
+    got = measure(CATALOGUE["crank-shaper quick return"])
+    assert got["time ratio"].value == pytest.approx((2 * math.pi - 2 * psi) / (2 * psi), rel=1e-7)
+    assert got["stroke"].value == pytest.approx(2 * math.degrees(math.asin(1 / 2)), rel=1e-7)
+
+
+@pytest.mark.parametrize("slots", [3, 4, 6, 8])
+def test_geneva_against_the_pin_in_the_slot(slots):
+    g = Geneva(slots, 2.0)
+    alpha = g.index_angle / 2
+    t = np.linspace(-alpha, alpha, 401)[1:-1]
+    pin = g.crank * np.c_[np.cos(t), np.sin(t)]                  # crank about (0, 0), wheel about (c, 0)
+    slot = pin - np.array([g.centre_distance, 0.0])
+    beta = np.arctan2(slot[:, 1], -slot[:, 0])                 # the slot's angle from W→O
+    got, rate, accel = g.wheel(t)
+    assert np.max(np.abs(got - beta)) < 1e-12
+    h = 1e-6
+    assert np.max(np.abs(rate - (g.wheel(t + h)[0] - g.wheel(t - h)[0]) / (2 * h))) < 1e-8
+    assert np.max(np.abs(accel - (g.wheel(t + h)[1] - g.wheel(t - h)[1]) / (2 * h))) < 1e-7
+    # tangential entry: the pin moves along the slot as it enters, so the wheel starts from rest
+    assert abs(float(g.wheel(alpha)[1][()])) < 1e-12
+
+
+@pytest.mark.parametrize("slots", [4, 6])
+def test_geneva_index_and_dwell_measured(slots):
+    got = measure(CATALOGUE[f"Geneva wheel, {slots} slots"])
+    assert got["index"].value == pytest.approx(360 / slots, abs=1e-9)
+    assert got["dwell"].value == pytest.approx(180 + 360 / slots, abs=1e-6)      # rest: speed below 1e-9 of peak
+    lam = math.sin(math.pi / slots)
+    assert got["peak speed ratio"].value == pytest.approx(lam / (1 - lam), rel=1e-6)
+
+
+def test_cam_dwells_measured_to_the_threshold():
+    got = measure(CATALOGUE["dwell-rise-dwell-return cam"])
+    assert got["dwell"].value == pytest.approx(180, abs=0.01) and got["stroke"].value == pytest.approx(1.0)
+
+
+def test_a_problem_of_the_second_class_proposes_the_intermittent_mechanisms():
+    """"rotation in, intermittent rotation out, dwell >= 90°" (issue 26's acceptance): both Geneva wheels."""
+    found = propose(load_catalogue(), "rotation -> intermittent rotation", ["dwell >= 90°"])
+    assert found.success and [p.entry.name for p in found if p.kept] == ["Geneva wheel, 4 slots",
+                                                                        "Geneva wheel, 6 slots"]
+    assert all("dwell >= 90: has" in p.reasons[0] for p in found)
+    strict = propose(load_catalogue(), "rotation -> intermittent rotation", ["dwell >= 260", "index = 90"])
+    assert [p.entry.name for p in strict if p.kept] == ["Geneva wheel, 4 slots"]
+    none = propose(load_catalogue(), "rotation -> straight line", ["dwell >= 90"])
+    assert not none.success and "not a property it has" in none[0].reasons[0]
+
+
+def test_requirements_and_files_say_what_is_wrong(tmp_path):
+    with pytest.raises(InputError, match="NAME OP NUMBER"):
+        requirement("dwell is long")
+    with pytest.raises(InputError, match="unknown motion 'flying'"):
+        propose(load_catalogue(), "rotation -> flying")
+    folder = tmp_path / "knowledge"
+    shutil.copytree(knowledge_dir(), folder)
+    text = (folder / "catalogue.toml").read_text()
+    (folder / "catalogue.toml").write_text(text.replace('motion = ["rotation", "reciprocation"]',
+                                                        'motion = ["rotation", "wobble"]', 1))
+    with pytest.raises(InputError, match=r"catalogue.toml:\d+: slider-crank: motion must be"):
+        load_catalogue(folder)
+    (folder / "catalogue.toml").write_text(text.replace('model = "slider-crank.json"', 'model = "../x.json"'))
+    with pytest.raises(InputError, match=r"catalogue.toml:\d+: slider-crank: the model file"):
+        load_catalogue(folder)
+
+
+def test_cli_lists_measured_properties_as_json_and_fails_when_nothing_meets_the_requirements():
+    run = subprocess.run([sys.executable, "-m", "domes", "catalogue", "--motion", "rotation -> straight line",
+                          "--format", "json"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    doc = json.loads(run.stdout)
+    assert [m["name"] for m in doc["mechanisms"]] == ["Hoeken straight-line linkage"]
+    assert doc["mechanisms"][0]["properties"]["straight length"]["value"] == pytest.approx(4.0, abs=1e-6)
+    run = subprocess.run([sys.executable, "-m", "domes", "catalogue", "--motion", "rotation -> straight line",
+                          "--require", "straight-line deviation <= 0.01"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 1 and "left out" in run.stdout and "Traceback" not in run.stderr
