@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 
 import numpy as np
 
 from domes.cli.common import write_document
 from domes.design.cam import Follower, design_cam
 from domes.errors import InputError
+from domes.io.files import read_text
 from domes.motion.laws import Motion, from_table, law_name, read_table
 
 
@@ -65,11 +65,7 @@ def _motion(args, oscillating: bool):
     if args.table and args.segment:
         raise InputError("give the motion as --segment ... or as --table FILE, not both")
     if args.table:
-        try:
-            text = Path(args.table).read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"--table {args.table}: cannot read it ({exc})") from None
-        xs, ss = read_table(text, args.table)
+        xs, ss = read_table(read_text(args.table), args.table)
         if not xs or abs(xs[0]) > 1e-9 or abs(xs[-1] - 360) > 1e-9:
             raise InputError(f"--table {args.table}: the cam angle must run from 0 to 360 degrees")
         return from_table(np.radians(xs), [scale(v) for v in ss], periodic=True)

@@ -431,11 +431,10 @@ class _Sense:
         self.f, self.base, self.delta, self.flat = follower, base, direction, flat
 
     def g(self, curve, t, th):
-        Y, Y1, _ = curve(t)
+        Y, Y1, Y2 = curve(t)
         R = _rot(self.delta * th)
         W, W1 = _apply(R, Y), _apply(R, Y1)
         if self.flat:
-            Y2 = curve(t)[2]
             return W1[..., 1], _apply(R, Y2)[..., 1]
         if self.f.kind == "translating":
             return W[..., 0] - self.f.offset, W1[..., 0]

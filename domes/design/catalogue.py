@@ -24,6 +24,7 @@ from domes.errors import InputError
 from domes.knowledge.catalogue import Entry, motion_pair, requirement
 from domes.motion.geneva import Geneva
 from domes.motion.laws import Motion
+from domes.motion.planar.query import Kinematics
 from domes.motion.planar.sweep import sweep
 from domes.results import Listing, Status
 
@@ -61,11 +62,10 @@ def measure(entry: Entry) -> dict[str, Measured]:
 
 def _sweep(entry, outputs, range_deg=None, step_deg=0.1):
     mech = entry.mechanism
-    drawn = mech.joint(mech.inputs[0].joint).kind == "R"
-    if not drawn:
+    if mech.joint(mech.inputs[0].joint).kind != "R":
         raise InputError(f"{entry.name}: the catalogue measures mechanisms with a turning input")
     if range_deg is None:
-        q0 = _drawn_input(mech)
+        q0 = Kinematics(mech).drawn_inputs()[mech.inputs[0].joint]
         lo, hi = q0, q0 + 2 * math.pi
     else:
         lo, hi = (math.radians(float(v)) for v in range_deg)
@@ -73,11 +73,6 @@ def _sweep(entry, outputs, range_deg=None, step_deg=0.1):
     if sw.status is not Status.COMPLETE:
         raise InputError(f"{entry.name}: the measure's range cannot be swept: {sw.message}")
     return sw
-
-
-def _drawn_input(mech) -> float:
-    from domes.motion.planar.query import Kinematics
-    return Kinematics(mech).drawn_inputs()[mech.inputs[0].joint]
 
 
 def _range(values, unit):

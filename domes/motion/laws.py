@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -237,7 +238,9 @@ class TableMotion:
     def period(self) -> float:
         return self.xs[-1] - self.xs[0]
 
+    @cached_property
     def _spline(self):
+        """The spline through the rows, made once (evaluate is called on hot paths: a cam's contact search)."""
         from scipy.interpolate import CubicSpline
         return CubicSpline(self.xs, self.ss, bc_type="periodic" if self.periodic else "not-a-knot")
 
@@ -249,7 +252,7 @@ class TableMotion:
             x = self.xs[0] + np.mod(x - self.xs[0], self.period)
         elif np.any((x < self.xs[0]) | (x > self.xs[-1])):
             raise InputError(f"the motion table covers x from {self.xs[0]:g} to {self.xs[-1]:g} only")
-        sp = self._spline()
+        sp = self._spline
         return tuple(np.asarray(sp(x, d), dtype=float) for d in range(order + 1))
 
 
