@@ -582,22 +582,22 @@ def test_the_full_set_is_large_enough():
 
 
 @pytest.mark.slow
-def test_every_example_runs_cleanly(folder, tmp_path):
+@pytest.mark.parametrize("target", TARGETS, ids=lambda t: t.name)     # a test each, for pytest -n to spread
+def test_every_example_runs_cleanly(folder, tmp_path, target):
     shutil.copy(folder / "atlas.h5", tmp_path)
     shutil.copy(folder / "open.h5", tmp_path)
     (tmp_path / "examples").symlink_to(folder / "examples")
-    for target in TARGETS:
-        path = tmp_path / ("clean" + {"json": ".json", "csv": ".csv", "h5": ".h5"}[target.kind])
-        if target.kind == "h5":
-            shutil.copy(tmp_path / ("atlas.h5" if target.source == "ATLAS" else "open.h5"), path)
-        elif target.kind == "csv":
-            shutil.copy(ROOT / target.source, path)
-        else:
-            path.write_text(_json_text(_base_doc(target)))
-        for k in range(len(target.commands)):
-            words = argv_of(Damage(target.name, "none", "", k), path)
-            outcome = run_forked(words, tmp_path)
-            assert outcome.status in (0, 1) and not problems(outcome), (words, outcome.err[-2000:])
+    path = tmp_path / ("clean" + {"json": ".json", "csv": ".csv", "h5": ".h5"}[target.kind])
+    if target.kind == "h5":
+        shutil.copy(tmp_path / ("atlas.h5" if target.source == "ATLAS" else "open.h5"), path)
+    elif target.kind == "csv":
+        shutil.copy(ROOT / target.source, path)
+    else:
+        path.write_text(_json_text(_base_doc(target)))
+    for k in range(len(target.commands)):
+        words = argv_of(Damage(target.name, "none", "", k), path)
+        outcome = run_forked(words, tmp_path)
+        assert outcome.status in (0, 1) and not problems(outcome), (words, outcome.err[-2000:])
 
 
 @pytest.mark.slow
