@@ -1,4 +1,4 @@
-"""Cams, motion laws and Geneva wheels beside the linkage kernel (issue 26).
+"""Cams, gears, motion laws and Geneva wheels beside the linkage kernel (issue 26).
 
 Run ``python benchmarks/bench_cams.py``. It prints, in one table, the median
 of ``--repeat`` runs of:
@@ -12,10 +12,14 @@ of ``--repeat`` runs of:
 - the Geneva wheel's closed form at ``--steps`` angles;
 - a four-bar driven by a motion law in time (``domes.motion.planar.timed``)
   at ``--steps`` times;
+- gear pairs in the kernel: a planetary train (``examples/mechanisms/planetary.json``,
+  arrays) and a sector gear on a four-bar's rocker (scalar path) swept over
+  ``--steps`` steps, order 2, with the largest error against Willis' formula;
 - beside them, the kinematics kernel's sweep of the same four-bar over
   ``--steps`` steps (positions, and order 2).
 
-No peer designs cams or Geneva wheels; the kernel's own sweep is the yardstick.
+No peer designs cams or Geneva wheels, and neither Pyslvs nor pylinkage has
+gear pairs; the kernel's own sweep is the yardstick.
 """
 
 from __future__ import annotations
@@ -35,6 +39,9 @@ from bench_kernel import median_time  # noqa: E402
 
 from domes.design.cam import Follower, design_cam, follow  # noqa: E402
 from domes.execution.threads import limited_threads  # noqa: E402
+from domes.io.mechanisms import load_mechanism  # noqa: E402
+from domes.model.gears import GearPair  # noqa: E402
+from domes.model.mechanism import Joint, Mechanism  # noqa: E402
 from domes.motion.geneva import Geneva  # noqa: E402
 from domes.motion.laws import Motion  # noqa: E402
 from domes.motion.planar.examples import four_bar  # noqa: E402
@@ -68,6 +75,21 @@ def rows(steps: int, repeat: int) -> list[tuple[str, float, str]]:
     times = np.linspace(0, 1, steps)
     t, run = median_time(lambda: timed(four_bar(), law, times, outputs=["angle:rocker"]), repeat)
     out.append(("four-bar driven by a motion law in time (order 2)", t, f"max residual {np.max(run.residuals):.1e}"))
+    planetary = load_mechanism(ROOT / "examples/mechanisms/planetary.json")
+    t, sw = median_time(lambda: sweep(planetary, 0.0, 2 * math.pi, 2 * math.pi / steps,
+                                      outputs=["angle:arm", "angle:planet"], order=2), repeat)
+    ws = planetary.inputs[0].speed
+    err = max(float(np.max(np.abs(sw.table["angle:arm'"] - ws * 20 / 72))),
+              float(np.max(np.abs(sw.table["angle:planet'"] - ws * 20 / 72 * (1 - 52 / 16)))))
+    out.append(("planetary gear train, order 2 (kernel, arrays)", t, f"largest rate error against Willis {err:.1e}"))
+    fb = four_bar()
+    sector = Mechanism.build("sector", list(fb.links) + ["pinion"], "frame",
+                             list(fb.joints) + [Joint("E", "R", ("frame", "pinion"), (3.0, -1.5))], list(fb.inputs),
+                             gears=[GearPair("M", ("rocker", "pinion"), (3.0, -1.0))])
+    t, sw = median_time(lambda: sweep(sector, 0.0, 2 * math.pi, 2 * math.pi / steps,
+                                      outputs=["angle:pinion", "angle:rocker"], order=2), repeat)
+    err = float(np.max(np.abs(sw.table["angle:pinion''"] + 2 * sw.table["angle:rocker''"])))
+    out.append(("sector gear on a four-bar's rocker, order 2 (scalar path)", t, f"largest acceleration error {err:.1e}"))
     for order in (0, 2):
         t, sw = median_time(lambda: sweep(four_bar(), 0.0, 2 * math.pi, 2 * math.pi / steps, outputs=["angle:rocker"],
                                       order=order), repeat)

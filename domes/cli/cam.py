@@ -19,8 +19,10 @@ import numpy as np
 
 from domes.cli.common import write_document
 from domes.design.cam import Follower, design_cam
+from domes.design.combination import cam_for_path
 from domes.errors import InputError
 from domes.io.files import read_text
+from domes.io.mechanisms import load_mechanism
 from domes.motion.laws import Motion, from_table, law_name, read_table
 
 
@@ -50,7 +52,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--arm", type=float, default=0.0, help="oscillating knife or roller: the arm's length")
     p.add_argument("--face-offset", type=float, default=0.0,
                    help="oscillating flat face: its distance from the pivot towards the cam (default 0)")
-    p.add_argument("--base-radius", type=float, required=True, help="the base circle's radius")
+    p.add_argument("--base-radius", type=float, default=None,
+                   help="the base circle's radius (required, unless the cam is found from a --mechanism)")
+    p.add_argument("--mechanism", metavar="FILE",
+                   help="a cam in parallel (seed 002 Fig. 3-28): a two-input mechanism file (a crank on the frame, "
+                   "then a follower sliding on it) whose --point must follow --path; the cam on the crank, its "
+                   "follower's axis, offset and base radius come from the mechanism")
+    p.add_argument("--path", metavar="FILE", help="with --mechanism: the path's points, rows of x, y (closed when the "
+                   "last row repeats the first)")
+    p.add_argument("--point", help="with --mechanism: the joint or point that must follow the path")
     p.add_argument("--direction", choices=("ccw", "cw"), default="ccw", help="the cam's turning (default ccw)")
     p.add_argument("--points", type=int, default=360, help="profile points per turn (default 360)")
     p.add_argument("--max-pressure", type=float, metavar="DEG", default=None,
@@ -87,11 +97,48 @@ def _motion(args, oscillating: bool):
     return Motion.cam(segs)
 
 
+def _combination(args) -> int:
+    if args.segment or args.table or args.base_radius is not None:
+        raise InputError("with --mechanism the motion and the base radius come from the path: leave out --segment, "
+                         "--table and --base-radius")
+    if not args.path or not args.point:
+        raise InputError("--mechanism needs --path FILE (rows of x, y) and --point NAME")
+    if args.face == "flat" or args.follower != "translating":
+        raise InputError("a cam in parallel drives a translating knife or roller follower (the mechanism's slider)")
+    xs, ys = read_table(read_text(args.path), args.path)
+    combo = cam_for_path(load_mechanism(args.mechanism), np.c_[xs, ys], args.point,
+                         roller=args.roller or 0.0 if args.face == "roller" else 0.0, samples=args.points,
+                         max_pressure_deg=args.max_pressure)
+    cam = combo.cam
+    s = cam.motion.evaluate(cam.theta)
+    doc = {
+        "message": combo.message,
+        "warnings": list(combo.warnings),
+        "follower": {"kind": "translating", "face": cam.follower.face, "roller": cam.follower.roller,
+                     "offset": cam.follower.offset},
+        "base_radius": cam.base_radius,
+        "stroke": float(np.ptp(combo.drive)),
+        "path_error": combo.path_error,
+        "turns": combo.turns,
+        "covered": combo.covered,
+        "max_pressure_deg": cam.max_pressure_angle_deg,
+        "min_radius": cam.min_radius,
+        "segments": [],
+        "profile": _rows(cam, s, combo.profile, 1.0),
+    }
+    _write(doc, args.format)
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
-    oscillating = args.follower == "oscillating"
-    motion = _motion(args, oscillating)
     if args.face == "roller" and args.roller is None:
         raise InputError("a roller follower needs --roller RADIUS (or choose --face knife or flat)")
+    if args.mechanism:
+        return _combination(args)
+    if args.base_radius is None:
+        raise InputError("give the cam's --base-radius (or a --mechanism, --path and --point to find it)")
+    oscillating = args.follower == "oscillating"
+    motion = _motion(args, oscillating)
     follower = Follower(args.follower, args.face, roller=args.roller or 0.0, offset=args.offset, pivot=args.pivot,
                         arm=args.arm, face_offset=args.face_offset)
     cam = design_cam(motion, follower, args.base_radius, 1 if args.direction == "ccw" else -1, args.points,
@@ -110,16 +157,26 @@ def run(args: argparse.Namespace) -> int:
         "min_radius": cam.min_radius,
         "segments": [{"law": g.law, "degrees": math.degrees(g.length), "rise": g.rise * unit}
                      for g in getattr(motion, "segments", ())],
-        "profile": [{"theta_deg": float(math.degrees(t)), "s": float(v * unit), "ds": float(d1 * unit),
-                     "dds": float(d2 * unit), "x": float(p[0]), "y": float(p[1]), "pressure_deg": float(a),
-                     "radius": float(r)}
-                    for t, v, d1, d2, p, a, r in zip(cam.theta, s[0], s[1], s[2], cam.profile, cam.pressure_deg,
-                                                     cam.radius)],
+        "profile": _rows(cam, s, cam.profile, unit),
     }
-    keys = ["theta_deg", "s", "ds", "dds", "x", "y", "pressure_deg", "radius"]
-    write_document(doc, args.format, html=None, rows=lambda d: [keys] + [[r[k] for k in keys] for r in d["profile"]],
-                   text=_text)
+    _write(doc, args.format)
     return 0
+
+
+KEYS = ["theta_deg", "s", "ds", "dds", "x", "y", "pressure_deg", "radius"]
+
+
+def _rows(cam, s, profile, unit: float) -> list[dict]:
+    """A row per profile point: the angle, the law (``s`` and its derivatives, times ``unit``), the point, the
+    pressure angle and the radius of curvature."""
+    return [{"theta_deg": float(math.degrees(t)), "s": float(v * unit), "ds": float(d1 * unit),
+             "dds": float(d2 * unit), "x": float(p[0]), "y": float(p[1]), "pressure_deg": float(a), "radius": float(r)}
+            for t, v, d1, d2, p, a, r in zip(cam.theta, s[0], s[1], s[2], profile, cam.pressure_deg, cam.radius)]
+
+
+def _write(doc: dict, fmt: str) -> None:
+    write_document(doc, fmt, html=None, rows=lambda d: [KEYS] + [[r[k] for k in KEYS] for r in d["profile"]],
+                   text=_text)
 
 
 def _text(out, doc) -> None:

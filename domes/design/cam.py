@@ -44,6 +44,8 @@ KINDS = ("translating", "oscillating")
 FACES = ("knife", "roller", "flat")
 #: Profile points per turn of the cam (the table the design reports and writes).
 POINTS = 720
+#: The most profile points a design takes (a million: far finer than any cam is cut).
+MAX_POINTS = 1_000_000
 
 
 def _rot(a):
@@ -247,8 +249,8 @@ def design_cam(motion, follower: Follower, base_radius: float, direction: int = 
         raise InputError(f"the base radius must be a number > 0, got {base_radius!r}")
     if direction not in (1, -1):
         raise InputError(f"direction must be 1 (counter-clockwise) or -1 (clockwise), got {direction!r}")
-    if not (isinstance(points, int) and points >= 16):
-        raise InputError(f"points must be a whole number >= 16, got {points!r}")
+    if not (isinstance(points, int) and 16 <= points <= MAX_POINTS):
+        raise InputError(f"points must be a whole number from 16 to {MAX_POINTS:,}, got {points!r}")
     if not getattr(motion, "periodic", False) or abs(motion.period - 2 * math.pi) > 1e-9:
         raise InputError("a cam's motion must be periodic over one turn (Motion.cam, or a periodic table over 2π)")
     limit = max_pressure_deg if max_pressure_deg is not None else (30.0 if follower.kind == "translating" else 45.0)

@@ -60,7 +60,7 @@ def measure(entry: Entry) -> dict[str, Measured]:
     return handler(entry, entry.measure)
 
 
-def _sweep(entry, outputs, range_deg=None, step_deg=0.1):
+def _sweep(entry, outputs, range_deg=None, step_deg=0.1, order=0):
     mech = entry.mechanism
     if mech.joint(mech.inputs[0].joint).kind != "R":
         raise InputError(f"{entry.name}: the catalogue measures mechanisms with a turning input")
@@ -69,7 +69,7 @@ def _sweep(entry, outputs, range_deg=None, step_deg=0.1):
         lo, hi = q0, q0 + 2 * math.pi
     else:
         lo, hi = (math.radians(float(v)) for v in range_deg)
-    sw = sweep(mech, lo, hi, math.radians(step_deg), outputs=outputs)
+    sw = sweep(mech, lo, hi, math.radians(step_deg), outputs=outputs, order=order)
     if sw.status is not Status.COMPLETE:
         raise InputError(f"{entry.name}: the measure's range cannot be swept: {sw.message}")
     return sw
@@ -149,6 +149,17 @@ def _straight(entry, spec):
             "straight length": Measured(length, "", "length of the path's straight part along the line")}
 
 
+def _ratio(entry, spec):
+    out = spec["output"]
+    sw = _sweep(entry, [out], spec.get("range_deg"), step_deg=1.0, order=1)
+    ratio = sw.column(out + "'") / entry.mechanism.inputs[0].speed
+    mean = float(np.mean(ratio))
+    unit = "" if out.startswith("angle:") else " per rad"
+    return {"ratio": Measured(mean, unit, "output rate per input rate (mean over the sweep)"),
+            "ratio variation": Measured(float(np.max(np.abs(ratio - mean)) / abs(mean) * 100), "%",
+                                        "largest change of the ratio over the sweep, of the ratio")}
+
+
 def _rest(rate, lo: float, hi: float) -> float:
     """The measure (rad) of ``[lo, hi)`` where ``rate`` is zero (below 1e-9 of its peak): sampled every
     1/:data:`PER_DEGREE` °, each change from moving to resting located by bisection to 1e-13 rad."""
@@ -199,7 +210,7 @@ def _follower(entry, spec):
             "stroke": Measured(float(np.max(s) - np.min(s)), "", "the follower's travel")}
 
 
-_KINDS = {"stroke": _stroke, "harmonic": _harmonic, "tangent": _tangent, "time ratio": _time_ratio,
+_KINDS = {"ratio": _ratio, "stroke": _stroke, "harmonic": _harmonic, "tangent": _tangent, "time ratio": _time_ratio,
           "straight line": _straight, "intermittent": _intermittent, "follower": _follower}
 
 

@@ -44,6 +44,7 @@ from domes.model.fields import LARGEST, check_space, read_list
 from domes.model.fields import check_keys as _keys
 from domes.model.fields import read_number as _num
 from domes.model.fields import read_xy as _xy
+from domes.model.gears import GearPair, read_teeth
 from domes.model.labelled import LabelledChain
 from domes.model.linkage import Linkage
 from domes.model.masses import MassModel
@@ -115,12 +116,14 @@ class Mechanism(Linkage):
     link_angles: tuple[tuple[str, float], ...] = ()
     source: str = field(default="", compare=False)
     masses: MassModel = MassModel()
+    gears: tuple[GearPair, ...] = ()
 
     @classmethod
     def build(cls, name, links, ground, joints, inputs, points=(), polygons=(), link_angles=None, source="",
-              masses: MassModel | None = None):
+              masses: MassModel | None = None, gears=()):
         """Validate, split compound hinges, and freeze. ``masses`` (:class:`~domes.model.masses.MassModel`):
-        mass properties, loads, springs and gravity, for dynamics (none by default)."""
+        mass properties, loads, springs and gravity, for dynamics (none by default); ``gears``
+        (:class:`~domes.model.gears.GearPair`): gear and rack pairs."""
         where = f"{source}: " if source else ""
         links = tuple(str(x) for x in links)
         if len(set(links)) != len(links):
@@ -135,8 +138,8 @@ class Mechanism(Linkage):
                 raise InputError(f"{where_j}: duplicate joint name")
             names.add(j.name)
             if j.kind not in ("R", "P"):
-                raise InputError(f"{where_j}: type {j.kind!r} is not supported; use 'R' or 'P' "
-                                 "(model a cylinder as two links joined by a P joint)")
+                raise InputError(f"{where_j}: type {j.kind!r} is not supported; use 'R' or 'P' (a gear pair is "
+                                 "a GearPair, type 'G' in files; model a cylinder as two links joined by a P joint)")
             for x in j.links:
                 if x not in links:
                     raise InputError(f"{where_j}: link {x!r} is not one of the links {list(links)}")
@@ -168,6 +171,17 @@ class Mechanism(Linkage):
                 raise InputError(f"{where}joint {j.name!r}: links {sorted(key)} are already joined by joint {pairs[key]!r}")
             pairs[key] = j.name
         by_name = {j.name: j for j in split}
+        gears = tuple(gears)
+        for g in gears:
+            where_g = f"{where}gear pair {g.name!r}"
+            if g.name in by_name or sum(1 for h in gears if h.name == g.name) > 1:
+                raise InputError(f"{where_g}: duplicate joint name")
+            if len(g.links) != 2 or g.links[0] == g.links[1] or any(x not in links for x in g.links):
+                raise InputError(f"{where_g}: needs two different links of {list(links)}, got {list(g.links)}")
+            if g.carrier is not None and g.carrier not in links:
+                raise InputError(f"{where_g}: carrier {g.carrier!r} is not one of the links {list(links)}")
+            if len(g.at) != 2 or not all(math.isfinite(v) for v in g.at):
+                raise InputError(f"{where_g}: 'at' (the pitch point) must be two finite numbers, got {g.at}")
         inputs = tuple(inputs)
         if len({i.joint for i in inputs}) != len(inputs):
             raise InputError(f"{where}inputs: a joint is driven twice")
@@ -192,19 +206,27 @@ class Mechanism(Linkage):
         places = {j.name: j.links[0] for j in split} | {p.name: p.link for p in points}
         masses.check(links, places, where)
         mech = cls(name, links, ground, tuple(split), inputs, tuple(points), tuple(polygons),
-                   tuple(sorted(angles.items())), source, masses)
+                   tuple(sorted(angles.items())), source, masses, gears)
+        for g in gears:
+            g.mesh(mech)
         dof = mech.dof
         if dof != len(inputs):
-            raise InputError(f"{where}the mechanism has {dof} degree(s) of freedom (3(n−1) − 2j = 3·{len(links) - 1} − 2·{len(split)}) "
-                             f"but {len(inputs)} input(s); give one driven joint per degree of freedom")
+            count = f"3·{len(links) - 1} − 2·{len(split)}" + (f" − {len(gears)}" if gears else "")
+            raise InputError(f"{where}the mechanism has {dof} degree(s) of freedom (3(n−1) − 2j{' − j_G' if gears else ''}"
+                             f" = {count}) but {len(inputs)} input(s); give one driven joint per degree of freedom")
         return mech
 
     # -- views -----------------------------------------------------------------
 
     @property
     def dof(self) -> int:
-        """Degrees of freedom by Grübler's count ``3(n − 1) − 2j`` (lower pairs)."""
-        return mobility(len(self.links), len(self.joints))
+        """Degrees of freedom by Grübler's count ``3(n − 1) − 2j − j_G`` (a gear pair has two freedoms)."""
+        pairs = len(self.joints) + len(self.gears)
+        return mobility(len(self.links), pairs, freedom=pairs + len(self.gears))
+
+    def meshes(self) -> list:
+        """The gear pairs resolved (:class:`~domes.model.gears.Mesh`): kind, carrier, centres, ratio."""
+        return [g.mesh(self) for g in self.gears]
 
     def point(self, name: str) -> tuple[str, Point2]:
         """``(link, drawn position)`` of a coupler point or joint (the joint on its first link)."""
@@ -241,14 +263,15 @@ class Mechanism(Linkage):
         (('R', 'P', 'R', 'R'), [0], 'frame')
         """
         index = {name: i for i, name in enumerate(self.links)}
+        pairs = list(self.joints) + [Joint(g.name, "G", g.links, g.at) for g in self.gears]
         return LabelledChain.build(
             len(self.links),
-            [(index[j.links[0]], index[j.links[1]]) for j in self.joints],
-            [j.kind for j in self.joints],
+            [(index[j.links[0]], index[j.links[1]]) for j in pairs],
+            [j.kind for j in pairs],
             {index[self.ground]: {"ground"}},
             name=self.name,
             link_names=self.links,
-            joint_names=[j.name for j in self.joints],
+            joint_names=[j.name for j in pairs],
         )
 
     @classmethod
@@ -284,14 +307,25 @@ class Mechanism(Linkage):
             link_items[links[-1]] = item
             if "angle" in item:
                 link_angles[links[-1]] = to_rad(_num(item["angle"], f"{where}.angle"))
-        joints = []
+        joints, gears = [], []
         if not isinstance(data["joints"], list):
             raise InputError(f"{source}: joints: expected a list")
         for k, item in enumerate(data["joints"]):
             where = f"{source}: joints[{k}]"
-            _keys(item, {"name", "type", "links", "at", "direction", "origin"}, {"name", "type", "links", "at"}, where)
+            _keys(item, {"name", "type", "links", "at", "direction", "origin", "teeth", "carrier"},
+                  {"name", "type", "links", "at"}, where)
             if not isinstance(item["links"], list):
                 raise InputError(f"{where}.links: expected a list of link names")
+            if item["type"] == "G":
+                if len(item["links"]) != 2:
+                    raise InputError(f"{where}.links: a gear pair joins exactly two links")
+                gears.append(GearPair(str(item["name"]), tuple(str(x) for x in item["links"]), _xy(item["at"], f"{where}.at"),
+                                      read_teeth(item["teeth"], f"{where}.teeth") if "teeth" in item else None,
+                                      str(item["carrier"]) if "carrier" in item else None))
+                continue
+            extra = {"teeth", "carrier"} & set(item)
+            if extra:
+                raise InputError(f"{where}: {sorted(extra)} belong to gear pairs (type 'G'), not to a {item['type']!r} joint")
             joints.append(Joint(
                 str(item["name"]), str(item["type"]), tuple(str(x) for x in item["links"]), _xy(item["at"], f"{where}.at"),
                 to_rad(_num(item.get("direction", 0.0), f"{where}.direction")),
@@ -319,7 +353,7 @@ class Mechanism(Linkage):
                                     tuple(_xy(v, f"{where}.vertices[{i}]") for i, v in enumerate(vertices))))
         masses = MassModel.from_dict(data, link_items, source)
         return cls.build(str(data.get("name", source)), links, str(data["ground"]), joints, inputs,
-                         points, polygons, link_angles, source, masses)
+                         points, polygons, link_angles, source, masses, gears)
 
     def to_dict(self) -> dict:
         """The JSON structure of the mechanism (angles in degrees); inverse of :meth:`from_dict`."""
@@ -338,6 +372,13 @@ class Mechanism(Linkage):
                 item["direction"] = deg(j.direction)
                 if j.origin is not None:
                     item["origin"] = list(j.origin)
+            out["joints"].append(item)
+        for g in mech.gears:
+            item = {"name": g.name, "type": "G", "links": list(g.links), "at": list(g.at)}
+            if g.teeth is not None:
+                item["teeth"] = list(g.teeth)
+            if g.carrier is not None:
+                item["carrier"] = g.carrier
             out["joints"].append(item)
         for i in mech.inputs:
             scale = deg if mech.joint(i.joint).kind == "R" else float
@@ -359,7 +400,7 @@ def from_labelled(chain, at: Mapping, directions: Mapping | None = None, inputs:
     """A dimensioned mechanism from a :class:`~domes.model.LabelledChain` plus joint coordinates.
 
     ``at[(u, v)]`` is the drawn position of the joint between links ``u`` and
-    ``v``; ``directions[(u, v)]`` the slide direction (rad) of a P joint,
+    ``v`` (of a gear pair: its pitch point); ``directions[(u, v)]`` the slide direction (rad) of a P joint,
     whose guide is ``guides[(u, v)]`` (default the lower-numbered link).
     Links are named ``"0"``, ``"1"``, ...; the ground is the link with role
     ``ground``; ``inputs`` lists driven joints as link pairs (default: the
@@ -380,7 +421,7 @@ def from_labelled(chain, at: Mapping, directions: Mapping | None = None, inputs:
     grounds = chain.links_with_role("ground")
     if len(grounds) != 1:
         raise InputError(f"labelled chain: needs exactly one link with role 'ground', found {grounds}")
-    joints = []
+    joints, gears = [], []
     for (u, v), t in zip(chain.edges, chain.joint_types):
         jname = f"J{u}-{v}"
         if (u, v) not in at:
@@ -395,9 +436,11 @@ def from_labelled(chain, at: Mapping, directions: Mapping | None = None, inputs:
             joints.append(Joint(jname, "P", (str(g), str(v if g == u else u)), xy, float(directions[(u, v)])))
         elif t == "R":
             joints.append(Joint(jname, "R", (str(u), str(v)), xy))
+        elif t == "G":
+            gears.append(GearPair(jname, (str(u), str(v)), xy))  # ``at`` is the pitch point
         else:
             raise InputError(f"labelled chain: joint {u}-{v} has type {t!r}; the planar kinematics backend takes "
-                             "R and P joints (model a cylinder 'H' as two links joined by a P joint)")
+                             "R, P and gear (G) joints (model a cylinder 'H' as two links joined by a P joint)")
     if inputs is None:
         g = grounds[0]
         inputs = []
@@ -406,4 +449,5 @@ def from_labelled(chain, at: Mapping, directions: Mapping | None = None, inputs:
                 raise InputError(f"labelled chain: input link {k} is not jointed to the ground {g}; name the driven joint")
             inputs.append((g, k))
     ins = [Input(f"J{min(p)}-{max(p)}") for p in inputs]
-    return Mechanism.build(name, [str(i) for i in range(chain.n)], str(grounds[0]), joints, ins, tuple(points))
+    return Mechanism.build(name, [str(i) for i in range(chain.n)], str(grounds[0]), joints, ins, tuple(points),
+                           gears=gears)

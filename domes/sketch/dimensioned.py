@@ -267,6 +267,11 @@ def dimensioned_svg(
     cylinders = _cylinders(mech)
     rails = {name: (origin, p.joints[name]) for name, (origin, _) in p.guides.items() if name not in cylinders}
     fitted = [pt for pts in outlines.values() for pt in pts] + [pt for c in curves for pt in c.path]
+    for m in mech.meshes():  # the pitch circles are drawn whole
+        for pivot, r in zip(m.pivots, m.radii):
+            if pivot is not None:
+                x, y = p.joints[pivot]
+                fitted += [(x - r, y - r), (x + r, y + r)]
     frame = Frame.fit(fitted + [pt for rail in rails.values() for pt in rail], size, max(40.0, 0.12 * size))
     sides = sorted(math.dist(a, b) for pts in outlines.values() for a, b in _sides(pts))
     s = min(max(sides[len(sides) // 2] * frame.scale if sides else 0.0, 0.08 * size), 0.16 * size)  # symbol scale
@@ -291,6 +296,7 @@ def dimensioned_svg(
         items.append(tag("line", {"class": "slider-rail", "data-link": j.links[0], "x1": num(frame(origin)[0]), "y1": num(frame(origin)[1]), "x2": num(frame(at)[0]), "y2": num(frame(at)[1]), "stroke": INK, "stroke-width": "2", "stroke-dasharray": "6 3"}))
         d = p.guides[name][1]
         items.append(tag("g", {"class": "joint-symbol P", "data-joint": name}, symbols.slider(frame(at), (d[0], -d[1]), s)))
+    items.extend(_pitch_items(mech, p, frame))
     for j in mech.joints:
         if j.kind == "R" and mech.ground in j.links:
             items.extend(symbols.ground_pivot(frame(p.joints[j.name]), s, middle))
@@ -311,6 +317,19 @@ def dimensioned_svg(
     caption = f"{driven.name} = {value:.6g}{unit}"
     items.append(_label(8, 16, caption, "pose-caption", {}, size="12"))
     return document(size, size, items, title=f"{mech.name}: {caption}")
+
+
+def _pitch_items(mech: Mechanism, p: Pose, frame: Frame) -> list[str]:
+    """Each gear pair's pitch circles (dash-dot) about the gears' pivots; a rack's pitch line through the pinion's."""
+    items = []
+    for m in mech.meshes():
+        attrs = {"class": "pitch", "data-gear-pair": m.pair.name, "fill": "none", "stroke": INK,
+                 "stroke-width": "1.2", "stroke-dasharray": "6 2 1 2"}
+        for pivot, r in zip(m.pivots, m.radii):
+            if pivot is not None:
+                x, y = frame(p.joints[pivot])
+                items.append(tag("circle", {**attrs, "cx": num(x), "cy": num(y), "r": num(r * frame.scale)}))
+    return items
 
 
 def _label(x: float, y: float, text: str, cls: str, attrs: dict, size: str = "10") -> str:

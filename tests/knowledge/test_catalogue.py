@@ -21,6 +21,8 @@ from domes.io.catalogue import load_catalogue
 from domes.io.resources import knowledge_dir
 from domes.knowledge.catalogue import requirement
 from domes.motion.geneva import Geneva
+from domes.motion.planar.sweep import sweep
+from domes.results import Status
 
 CATALOGUE = {e.name: e for e in load_catalogue()}
 
@@ -74,6 +76,43 @@ def test_hoeken_runs_straight_for_half_a_turn_over_twice_its_frame():
     assert got["straight length"].value == pytest.approx(4.0, abs=1e-6)     # from x = 4 to x = 0 at y = 4
 
 
+PEAUCELLIER = "Peaucellier-Lipkin straight-line linkage"
+
+
+def test_peaucellier_is_exactly_straight_where_chebyshev_is_nearly():
+    # The inversor: arms OA = OB = 20 and a rhombus of sides 13 make E (the crank pin) and F (the traced P) inverse
+    # points about O, OE · OF = 20² − 13² = 231; E runs on the crank's circle through O (centre C = (5.5, 0), radius
+    # 5.5), OE = 11 cos(θ/2), so P runs on the line x = 231 / 11 = 21, at y = 21 tan(θ/2) for the crank angle θ.
+    # Measured the same way, Chebyshev's deviation is 0.13 % and the Peaucellier's is rounding.
+    got = measure(CATALOGUE[PEAUCELLIER])
+    chebyshev = measure(CATALOGUE["Chebyshev straight-line linkage"])["straight-line deviation"].value
+    assert chebyshev > 0.1 and got["straight-line deviation"].value < 1e-12       # percent of the length
+    assert got["straight length"].value == pytest.approx(2 * 21 * math.tan(math.radians(45)), rel=1e-12)
+    mech, size = CATALOGUE[PEAUCELLIER].mechanism, 21.0
+    for method in ("assur", "newton"):                      # three RRR dyads after the crank, or Newton on them all
+        sw = sweep(mech, math.radians(-90), math.radians(90), math.radians(0.5), outputs=["point:P"], method=method)
+        assert sw.status is Status.COMPLETE, sw.message
+        assert np.max(np.abs(sw.column("point:P.x") - 21)) <= 1e-9 * size, method
+        assert np.max(np.abs(sw.column("point:P.y") - 21 * np.tan(sw.inputs / 2))) <= 1e-9 * size, method
+    # the crank only oscillates (its motion is "oscillation"): it stops where OE = 20 − 13, 11 cos(θ/2) = 7
+    far = sweep(mech, 0, math.pi, math.radians(1))
+    assert far.status is not Status.COMPLETE
+    assert math.degrees(far.dead_points[0].input) == pytest.approx(2 * math.degrees(math.acos(7 / 11)), abs=1e-6)
+    file = knowledge_dir() / "catalogue" / "peaucellier.json"             # and `domes kinematics` on its file
+    run = subprocess.run([sys.executable, "-m", "domes", "kinematics", str(file), "--sweep=-90:90:45", "--outputs",
+                          "point:P", "--format", "json"], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    steps = json.loads(run.stdout)["steps"]
+    assert len(steps) == 5 and all(abs(s["point:P.x"] - 21) <= 1e-9 * size for s in steps)
+
+
+def test_the_motion_search_finds_the_exact_straight_line():
+    found = propose(load_catalogue(), "oscillation -> straight line", ["straight-line deviation <= 1e-9"])
+    assert {"Chebyshev straight-line linkage", PEAUCELLIER} <= {p.entry.name for p in found}
+    assert [p.entry.name for p in found if p.kept] == [PEAUCELLIER]
+    assert PEAUCELLIER not in {p.entry.name for p in propose(load_catalogue(), "rotation -> straight line")}
+
+
 def test_slider_crank_yoke_and_tangent_against_closed_forms():
     assert measure(CATALOGUE["slider-crank"])["stroke"].value == pytest.approx(2.0, abs=1e-12)      # 2 × crank
     yoke = measure(CATALOGUE["Scotch yoke"])
@@ -89,6 +128,18 @@ def test_quick_return_time_ratio_from_its_geometry():
     got = measure(CATALOGUE["crank-shaper quick return"])
     assert got["time ratio"].value == pytest.approx((2 * math.pi - 2 * psi) / (2 * psi), rel=1e-7)
     assert got["stroke"].value == pytest.approx(2 * math.degrees(math.asin(1 / 2)), rel=1e-7)
+
+
+@pytest.mark.parametrize("name, ratio", [
+    ("gear train", 18 / 30 * 30 / 54),            # two external meshes: the wheel turns the pinion's way
+    ("planetary gear train", 20 / (20 + 52)),     # Willis, ring fixed: z_s / (z_s + z_r)
+    ("rack and pinion", 1.0),                     # the pitch radius, per radian
+])
+def test_gear_entries_measure_their_closed_form_ratio(name, ratio):
+    entry = next(e for e in load_catalogue() if e.name == name)
+    m = measure(entry)
+    assert m["ratio"].value == pytest.approx(ratio, rel=1e-12)
+    assert m["ratio variation"].value < 1e-9
 
 
 @pytest.mark.parametrize("slots", [3, 4, 6, 8])

@@ -112,6 +112,8 @@ def positions_many(compiled: Compiled, joint: str, qs, start: dict, others: dict
             path = np.concatenate(([start[v]], values[v]))[0 if jumps else 1:]
             change = np.abs(np.diff(path)) / (1.0 if v.startswith("rot:") else kin.size)
             fail(np.concatenate(([False] if not jumps else [], ~(change <= JUMP))), "jump", g)
+    for v, expr in s.derived.items():  # racks' slides: linear in the inputs on this path
+        values[v] = np.broadcast_to(expr.value(values), (n,)).astype(float)
     roots = {i: np.broadcast_to(r, (n,)) for i, r in pose.root.items()}
     margins = {i: np.broadcast_to(r, (n,)) for i, r in pose.margin.items()}
     return Run(values, roots, first, margins)
@@ -194,6 +196,7 @@ def motion_many(kin, values: dict, order: int):
     residual = np.zeros(n)
     condition = np.ones(n)
     for g in kin.groups:
+        kin._derive_rates(rates, accels)
         if not g.unknowns:
             continue
         A, J, loops = _stack(kin, g, values)
@@ -215,6 +218,7 @@ def motion_many(kin, values: dict, order: int):
         sol = _solve(safe, _rhs(n, g, loops, col, accels, rates))
         sol[~ok] = np.nan
         accels.update({v: sol[:, k] for k, v in enumerate(g.unknowns)})
+    kin._derive_rates(rates, accels)
     return rates, accels, residual, condition
 
 

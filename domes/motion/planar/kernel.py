@@ -42,9 +42,20 @@ SIGNED = ("RRR", "RPR", "RRP")
 
 
 def vectorizable(kin) -> bool:
-    """Whether every group the query needs is a driver or a dyad with a closed form."""
-    return all(g.index in kin.plans for g in kin.groups if g.unknowns) and \
-        all(len(g.links) == 1 or g.index in kin.plans for g in kin.groups)
+    """Whether every group the query needs is a driver, a dyad with a closed form, or geared to the inputs alone."""
+    for g in kin.groups:
+        if g.kind == "geared":
+            if not _inputs_only(kin.structure, g):
+                return False
+        elif (g.unknowns or len(g.links) > 1) and g.index not in kin.plans:
+            return False
+    return True
+
+
+def _inputs_only(s, g) -> bool:
+    """Whether a geared group's rotations and racks' slides are linear in the inputs alone (no other group's)."""
+    exprs = [s.rotations[x] for x in g.links] + [s.derived[v] for v in s.derived_of(g)]
+    return all(v.startswith("q:") for e in exprs for v, _ in e.terms)
 
 
 def _c(p) -> complex:
@@ -142,16 +153,19 @@ class Program:
 
     def __init__(self, kin):
         if not vectorizable(kin):
-            raise InputError(f"{kin.mech.name}: the kernel evaluates drivers and dyads only; groups "
-                             f"{[g.label for g in kin.groups if g.index not in kin.plans and len(g.links) > 1]} "
+            raise InputError(f"{kin.mech.name}: the kernel evaluates drivers, dyads and gears driven by the inputs "
+                             f"only; groups {[g.label for g in kin.groups if g.index not in kin.plans and len(g.links) > 1]} "
                              "need Newton's method")
         self.kin = kin
         mech = kin.mech
         self.mech = mech
         self.ground = mech.ground
         self.steps = []
+        placed = {mech.ground}
         for g in kin.groups:
-            if g.index in kin.plans:
+            if g.kind == "geared":
+                self.steps.append(("geared", g, _placements(mech, g, placed)))
+            elif g.index in kin.plans:
                 plan = kin.plans[g.index]
                 ka = next(x for x in plan.a.links if x != plan.l1)
                 kc = next(x for x in plan.c.links if x != plan.l2)
@@ -161,6 +175,7 @@ class Program:
                 link = g.links[0]
                 known = next(x for x in j.links if x != link)
                 self.steps.append(("driver", g, j, link, known))
+            placed |= set(g.links)
         self.inputs = {i.joint: i for i in mech.inputs}
 
     # -- geometry ------------------------------------------------------------------------
@@ -173,6 +188,9 @@ class Program:
         Names not given keep the mechanism's values.
         """
         mech = self.mech
+        if mech.gears and (coordinates or directions):
+            raise InputError(f"{mech.name}: a geared mechanism's ratios come from its drawn pitch points; batches with "
+                             "other coordinates or directions are not evaluated (build each mechanism instead)")
         count = None
         at = {j.name: _c(j.at) for j in mech.joints}
         at.update({p.name: _c(p.at) for p in mech.points})
@@ -245,6 +263,8 @@ class Program:
         for kind, g, *rest in self.steps:
             if kind == "driver":
                 self._driver(geom, pose, *rest)
+            elif kind == "geared":
+                self._geared(geom, pose, g, *rest)
             else:
                 self._dyad(geom, pose, g, *rest, (signs or {}).get(g.index, geom.sign.get(g.index, 1.0)))
         return pose
@@ -263,6 +283,21 @@ class Program:
             pose.slides[j.name] = q
             pose.links[link] = (R, X + _sigma(j, known) * (q - geom.s0[j.name]) * R * geom.direction[j.name],
                                 geom.at[j.name])
+
+    def _geared(self, geom, pose, g, placements):
+        """Place a geared group's links: rotations (and racks' slides) linear in the inputs, each at its joint."""
+        s = self.kin.structure
+        values = {f"q:{j}": np.asarray(q, dtype=float) for j, q in pose.inputs.items()}
+        for link, j, known in placements:
+            X = pose.world(geom, known, j.name)
+            R = np.exp(1j * s.rotations[link].value(values))
+            if j.kind == "R":
+                pose.links[link] = (R, X, geom.at[j.name])
+            else:
+                x = s.derived[f"s:{j.name}"].value(values)
+                pose.slides[j.name] = x
+                u = pose.links[known][0] * geom.direction[j.name]
+                pose.links[link] = (R, X + _sigma(j, known) * (x - geom.s0[j.name]) * u, geom.at[j.name])
 
     def _dyad(self, geom, pose, g, plan, ka, kc, sign):
         a, b, c = plan.a, plan.b, plan.c
@@ -383,6 +418,8 @@ class Program:
             for kind, g, *rest in self.steps:
                 if kind == "driver":
                     self._driver_motion(geom, pose, levels, m, given[level - 1], *rest)
+                elif kind == "geared":
+                    self._geared_motion(geom, pose, levels, m, given[level - 1], *rest)
                 else:
                     self._dyad_motion(geom, pose, levels, m, *rest)
             levels.append(m)
@@ -402,6 +439,19 @@ class Program:
             m.slide[j.name] = rate
             m.w[link] = m.w[known]
             m.V[link] = V + _sigma(j, known) * _relative(geom, pose, levels, j, known, m.w[known], rate)
+
+    def _geared_motion(self, geom, pose, levels, m, given, placements):
+        s = self.kin.structure
+        rates = {f"q:{j}": r for j, r in given.items()}
+        for link, j, known in placements:
+            X = pose.world(geom, known, j.name)
+            V = _point(pose, levels, m.w[known], m.V[known], known, X)
+            m.w[link] = s.rotations[link].rate(rates)
+            if j.kind == "P":
+                rate = s.derived[f"s:{j.name}"].rate(rates)
+                m.slide[j.name] = rate
+                V = V + _sigma(j, known) * _relative(geom, pose, levels, j, known, m.w[known], rate)
+            m.V[link] = V
 
     def _dyad_motion(self, geom, pose, levels, m, plan, ka, kc):
         """Solve the dyad's two unknown rates from the constraint at its inner joint (linear in them)."""
@@ -501,6 +551,24 @@ def _relative(geom, pose, levels, j, guide, w, rate):
         return rate * u + ds * 1j * w * u
     omega = levels[0].w[guide]
     return rate * u + 2 * levels[0].slide[j.name] * 1j * omega * u + ds * (1j * w - omega * omega) * u
+
+
+def _placements(mech, g, known) -> list:
+    """``(link, joint, known link)`` for each link of a geared group, each joined to one placed before it."""
+    done, out = set(known), []
+    todo = list(g.links)
+    while todo:
+        for link in todo:
+            j = next((j for j in mech.joints_of(link) if j.name in g.joints and
+                      (j.links[0] if j.links[1] == link else j.links[1]) in done), None)
+            if j is not None:
+                out.append((link, j, j.links[0] if j.links[1] == link else j.links[1]))
+                done.add(link)
+                todo.remove(link)
+                break
+        else:
+            raise InputError(f"{mech.name}: the geared links {todo} are not joined to placed links")
+    return out
 
 
 def _sigma(j, known) -> float:

@@ -310,8 +310,10 @@ class Kinematics:
         """Values of all variables of the needed groups at ``inputs``, continuing from ``guess``."""
         values = dict(self.structure.drawn if guess is None else guess)
         values.update(self._input_values(inputs))
+        derived = self.structure.derived
         for g in self.groups:
             if not g.unknowns:
+                values.update({v: derived[v].value(values) for v in self.structure.derived_of(g)})
                 continue
             before = [values[v] for v in g.unknowns]
             try:
@@ -325,6 +327,7 @@ class Kinematics:
                 raise SolveFailure(str(exc), FailureKind.UNDETERMINED, g) from None
             if guess is not None:
                 self._check_jump(g, before, values)
+            values.update({v: derived[v].value(values) for v in self.structure.derived_of(g)})
         self.groups_solved += sum(1 for g in self.groups if g.unknowns)
         return values
 
@@ -412,6 +415,7 @@ class Kinematics:
         accels = {v: accelerations.get(j, self.inputs[j].acceleration) for j, v in self.structure.input_vars.items()}
         residual, condition = 0.0, 1.0
         for g in self.groups:
+            self._derive_rates(rates, accels)
             if not g.unknowns:
                 continue
             col = {v: k for k, v in enumerate(g.unknowns)}
@@ -460,7 +464,15 @@ class Kinematics:
                     rhs[2 * i:2 * i + 2] -= np.asarray(c) * rates[v]
             sol = np.linalg.solve(J, rhs)
             accels.update(zip(g.unknowns, map(float, sol)))
+        self._derive_rates(rates, accels)
         return rates, accels, residual, condition
+
+    def _derive_rates(self, rates, accels):
+        """Rates and accelerations of the derived slides whose terms are known (linear: exact)."""
+        for v, expr in self.structure.derived.items():
+            for store in (rates, accels):
+                if v not in store and all(t in store for t, _ in expr.terms):
+                    store[v] = expr.rate(store)
 
     # -- outputs -----------------------------------------------------------------------
 

@@ -6,6 +6,10 @@ through the input, so each link's rotation is a linear expression
 ``Δ_k = Σ c·v + const`` in the *rotation variables* (one per class of links
 turning together, named ``rot:<first link of the class>``) and the inputs
 (``q:<joint>``). Each undriven P joint has a slide variable ``s:<joint>``.
+A gear pair (:mod:`domes.model.gears`) is one linear equation among these
+(Willis' formula relative to its carrier): it eliminates a rotation variable
+from every expression, or makes a rack's slide a *derived* variable, a
+linear expression in the others.
 
 A *group* is a set of moving links whose variables are fixed once the links
 it is jointed to are known: an Assur group, or a driver (a link with a
@@ -201,12 +205,18 @@ def _class_of(mech: Mechanism, links, joints) -> str:
 class Structure:
     """Rotation classes, variables and the Assur decomposition of a mechanism."""
 
-    def __init__(self, mech: Mechanism, groups: tuple[Group, ...], rotations: dict, inputs: dict, drawn: dict):
+    def __init__(self, mech: Mechanism, groups: tuple[Group, ...], rotations: dict, inputs: dict, drawn: dict,
+                 derived: dict | None = None):
         self.mech = mech
         self.groups = groups
         self.rotations = rotations          # link -> Rotation
         self.input_vars = inputs            # joint name -> variable name
         self.drawn = drawn                  # variable -> value in the drawn pose
+        self.derived = derived or {}        # slide variable fixed by a rack -> Rotation (a linear expression)
+
+    def derived_of(self, g: Group) -> list[str]:
+        """The derived slide variables of ``g``'s joints (set once ``g``'s variables are known)."""
+        return [v for v in (f"s:{j}" for j in g.joints) if v in self.derived]
 
     # -- construction ----------------------------------------------------------------
 
@@ -216,6 +226,8 @@ class Structure:
         if method not in ("assur", "newton"):
             raise InputError(f"method must be 'assur' or 'newton', got {method!r}")
         rotations, input_vars, drawn = _rotation_classes(mech)
+        meshes = mech.meshes()
+        derived = _mesh_gears(mech, meshes, rotations, input_vars, drawn)
         driven = set(input_vars)
         known = {mech.ground}
         owner: dict[str, int] = {}
@@ -229,6 +241,8 @@ class Structure:
                     s = set(cand)
                     js = [j for j in mech.joints if set(j.links) & s and set(j.links) <= s | known]
                     constraints = sum(3 if j.name in driven else 2 for j in js)
+                    constraints += sum(1 for m in meshes if {m.a, m.b, m.carrier} <= s | known
+                                       and {m.a, m.b, m.carrier} & s)
                     if constraints > 3 * k and method == "assur":
                         raise _overconstrained(mech, cand, js, constraints, driven)
                     if found is None and constraints == 3 * k and _connected(cand, js, known):
@@ -244,7 +258,10 @@ class Structure:
             for x in cand:
                 seg_vars |= {v for v, _ in rotations[x].terms}
             seg_vars |= {_slide_var(j, input_vars) for j in js if j.kind == "P"}
-            unknowns = tuple(sorted(v for v in seg_vars if not v.startswith("q:") and v not in owner))
+            for v in [v for v in seg_vars if v in derived]:
+                seg_vars |= {w for w, _ in derived[v].terms} - {v}
+            unknowns = tuple(sorted(v for v in seg_vars if not v.startswith("q:") and v not in owner
+                                    and v not in derived))
             for v in unknowns:
                 owner[v] = index
             parents = {_owner_of_link(groups, other) for j in js for other in j.links if other in known} - {None}
@@ -255,6 +272,8 @@ class Structure:
             allowed = {mech.ground} | {x for g in ancestors for x in groups[g].links}
             loops = _group_loops(mech, cand, js, allowed, rotations, input_vars)
             kind = _group_kind(mech, cand, [j.name for j in js], driven)
+            if not unknowns and not {j.name for j in js} & driven and any({m.a, m.b} & set(cand) for m in meshes):
+                kind = "geared"
             if len(unknowns) != 2 * len(loops):
                 raise InputError(f"{mech.name}: links {list(cand)} ({kind}) have {len(unknowns)} unknowns for "
                                  f"{2 * len(loops)} loop equations: not a determinate group (e.g. three P joints)")
@@ -262,7 +281,7 @@ class Structure:
                                 tuple(sorted(parents))))
             known |= set(cand)
             remaining = [x for x in remaining if x not in cand]
-        return cls(mech, tuple(groups), rotations, input_vars, drawn)
+        return cls(mech, tuple(groups), rotations, input_vars, drawn, derived)
 
     # -- queries -----------------------------------------------------------------------
 
@@ -361,6 +380,70 @@ def _rotation_classes(mech: Mechanism):
                     raise InputError(f"{mech.name}: link {y!r} is tied to turn with {x!r} in two inconsistent ways "
                                      "(a closed circuit of P joints and driven joints)")
     return rotations, input_vars, drawn
+
+
+def _mesh_gears(mech: Mechanism, meshes, rotations: dict, input_vars: dict, drawn: dict) -> dict:
+    """Eliminate one variable per gear pair (Willis' formula); rack slides fixed this way are returned as derived.
+
+    Each pair's equation, ``Δ_b − Δ_c + s·k·(Δ_a − Δ_c) = 0`` (gears) or
+    ``x − x0 − σ·m·(Δ_a − Δ_c) = 0`` (a rack's slide ``x``), is solved for
+    the driven gear's rotation variable (``b``, then ``a``), else the rack's
+    undriven slide, else the carrier's rotation; a pair that ties only
+    inputs is refused.
+    """
+    derived: dict[str, Rotation] = {}
+    for m in meshes:
+        ea, ec = rotations[m.a], rotations[m.carrier]
+        eq = _combine([(1.0, ea), (-1.0, ec)])
+        if m.kind == "rack":
+            x = input_vars.get(m.slide, f"s:{m.slide}")
+            ex = derived.get(x, Rotation(((x, 1.0),)))
+            eq = _combine([(1.0, ex), (-m.sign * m.ratio, eq)], -drawn[x])
+        else:
+            eq = _combine([(1.0, rotations[m.b]), (-1.0, ec), (m.sign * m.ratio, eq)])
+        coeffs = dict(eq.terms)
+        sides = (m.a,) if m.kind == "rack" else (m.b, m.a)
+        order = [v for x in sides for v, _ in rotations[x].terms if v.startswith("rot:")]
+        order += [v for v in coeffs if v.startswith("s:")]
+        order += [v for v, _ in rotations[m.carrier].terms if v.startswith("rot:")]
+        var = next((v for v in order if abs(coeffs.get(v, 0.0)) > 1e-12), None)
+        where = f"{mech.name}: gear pair {m.pair.name!r}"
+        if var is None:
+            tied = sorted(v for v in coeffs if abs(coeffs[v]) > 1e-12)
+            if tied:
+                raise InputError(f"{where} ties the inputs {[v[2:] for v in tied]} to each other: they are not "
+                                 "independent; drive fewer joints")
+            raise InputError(f"{where} repeats what the other pairs and joints already fix (a redundant gear pair)")
+        c = coeffs[var]
+        solution = Rotation(tuple((v, -k / c) for v, k in eq.terms if v != var), -eq.const / c)
+
+        def put(expr):
+            k = dict(expr.terms).get(var)
+            if k is None:
+                return expr
+            rest = Rotation(tuple((v, w) for v, w in expr.terms if v != var), expr.const)
+            return _combine([(1.0, rest), (k, solution)])
+
+        for x in list(rotations):
+            rotations[x] = put(rotations[x])
+        for v in list(derived):
+            derived[v] = put(derived[v])
+        if var.startswith("s:"):
+            derived[var] = solution
+        else:
+            drawn.pop(var, None)
+    return derived
+
+
+def _combine(parts, const: float = 0.0) -> Rotation:
+    """``Σ k·expr + const`` as one linear expression (terms with a zero coefficient dropped)."""
+    out: dict[str, float] = {}
+    total = const
+    for k, expr in parts:
+        for v, c in expr.terms:
+            out[v] = out.get(v, 0.0) + k * c
+        total += k * expr.const
+    return Rotation(tuple((v, c) for v, c in sorted(out.items()) if abs(c) > 1e-15), total)
 
 
 def _connected(cand, joints, known) -> bool:
