@@ -13,7 +13,15 @@ from domes.execution import SCHEDULER_VARIABLE, InProcess, executor
 from domes.io.jobs import JobFolder
 from domes.model.chain import Chain
 from domes.model.mobility import chain_joints
-from domes.typesynth.atlas import ISOMORPHISM_METHODS, ChainGenerator, check_links, forecast
+from domes.typesynth.atlas import (
+    ISOMORPHISM_METHODS,
+    MAX_CLAMPING_JOINTS,
+    SMALL_CLAMPING_LINKS,
+    ChainGenerator,
+    check_links,
+    clamping_joints,
+    forecast,
+)
 
 #: Atlases from this many links on are very large: ask before building them.
 LARGE_ATLAS_LINKS = 14
@@ -28,13 +36,19 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="The unlabelled graph generator: every non-isomorphic kinematic chain of planar motion "
         "with simple revolute joints, the given links and DOF, and no rigid or over-constrained proper "
         "sub-chain. DOF 0 gives the basic chains of Table 3-4 (with K). A chain whose graph is not planar "
-        "(it cannot be drawn without crossings; 11 of the 230 ten-bar chains) is marked 'non-planar graph'.",
+        "(it cannot be drawn without crossings; 11 of the 230 ten-bar chains) is marked 'non-planar graph'. "
+        "--clamping lists the chains of clamps instead (seed 002, §3-3-I (4)): any DOF, W <= 0 included, immobile "
+        "sub-chains admitted (each marked with its links).",
     )
     size = p.add_mutually_exclusive_group(required=True)
     size.add_argument("--links", "-n", type=int, help="number of links n")
     size.add_argument("--loops", "-L", type=int, help="number of independent loops (links = F + 2L + 1)")
-    p.add_argument("--dof", "-F", type=int, required=True, help="degrees of freedom F of the chain (0 for basic chains)")
+    p.add_argument("--dof", "-F", type=int, required=True,
+                   help="degrees of freedom F of the chain (0 for basic chains; below 0 with --clamping)")
     p.add_argument("--include-fractionated", action="store_true", help="keep chains with a cut link")
+    p.add_argument("--clamping", action="store_true",
+                   help="clamping chains (seed 002, §3-3-I (4), Fig. 3-23): admit immobile (rigid or over-constrained) "
+                   "sub-chains and any DOF, W <= 0 included; every simple graph of the size, each link with 2+ joints")
     p.add_argument("--count", action="store_true", help="print only the number of chains")
     p.add_argument("--format", choices=("text", "graph6", "json", "html"), default="text", help="html: an atlas page with a drawing of every chain")
     p.add_argument(
@@ -101,14 +115,17 @@ def _text_line(index: int, chain: Chain) -> str:
 
 
 def run_chains(args: argparse.Namespace) -> int:
-    if args.dof < 0:
-        raise InputError(f"--dof must be >= 0, got {args.dof}")
+    if args.dof < 0 and not args.clamping:
+        raise InputError(f"--dof must be >= 0 for chains without immobile sub-chains, got {args.dof}; chains of "
+                         "DOF below 0 always hold one: add --clamping to list them (the chains of clamps, W <= 0)")
     if args.loops is not None:
         if args.loops < 1:
             raise InputError(f"--loops must be >= 1, got {args.loops}")
         links = args.dof + 2 * args.loops + 1
     else:
         links = args.links
+    if args.clamping:
+        return _run_clamping(args, links)
     joints = chain_joints(links, args.dof)
     loops = joints - links + 1
     if loops < 1:
@@ -136,7 +153,29 @@ def run_chains(args: argparse.Namespace) -> int:
         kind = "-with-cut-links" if args.include_fractionated else ""
         print(f"{len(graphs)} chains of {links} links, DOF {args.dof}: {job.path / f'chains-n{links}-F{args.dof}{kind}.g6'}")
         return 0
-    atlas = [Chain(n, edges) for n, edges in graphs]
+    return _write_atlas(args, [Chain(n, edges) for n, edges in graphs], links, joints, loops)
+
+
+def _run_clamping(args: argparse.Namespace, links: int) -> int:
+    """``domes chains --clamping``: the small clamping atlases, built here (no --out, no workers needed)."""
+    if args.out is not None:
+        raise InputError(f"--out is for the large atlases of mobile chains; a clamping atlas is small (at most "
+                         f"{MAX_CLAMPING_JOINTS} joints beyond {SMALL_CLAMPING_LINKS} links): leave --out out and use "
+                         "--format graph6 to save it")
+    if links < 3:
+        given = f" (links = F + 2L + 1 with --loops {args.loops} and --dof {args.dof})" if args.loops is not None else ""
+        raise InputError(f"a clamping chain needs at least 3 links (a closed loop), got {links}{given}")
+    joints = clamping_joints(links, args.dof)
+    generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress))
+    graphs = generator.chains(links, args.dof, args.include_fractionated, clamping=True)
+    if args.count:
+        print(len(graphs))
+        return 0
+    return _write_atlas(args, [Chain(n, edges) for n, edges in graphs], links, joints, joints - links + 1)
+
+
+def _write_atlas(args: argparse.Namespace, atlas: list[Chain], links: int, joints: int, loops: int) -> int:
+    """Write the atlas to standard output in ``args.format``."""
     out = sys.stdout
     if args.format == "html":
         from domes.sketch.atlas import chain_atlas_html
@@ -161,6 +200,7 @@ def run_chains(args: argparse.Namespace) -> int:
                 "loops": loops,
                 "dof": args.dof,
                 "include_fractionated": args.include_fractionated,
+                "clamping": args.clamping,
                 "isomorphism": args.isomorphism,
                 "count": len(atlas),
                 "chains": records,
@@ -171,11 +211,17 @@ def run_chains(args: argparse.Namespace) -> int:
         out.write("\n")
     else:
         kind = "with or without a cut link" if args.include_fractionated else "without a cut link"
-        out.write(f"# {len(atlas)} chains: {links} links, {joints} joints, {loops} loops, DOF {args.dof} ({kind})\n")
+        what = "chains"
+        if args.clamping:
+            kind += ", immobile sub-chains admitted"
+            what = f"clamping chains ({sum(c.is_degenerate for c in atlas)} with an immobile sub-chain)"
+        out.write(f"# {len(atlas)} {what}: {links} links, {joints} joints, {loops} loops, DOF {args.dof} ({kind})\n")
         out.write("#   id  [link assortment d^n_d]  |Aut|  DOF type   joints\n")
         for index, chain in enumerate(atlas, 1):
             line = _text_line(index, chain)
-            if args.dof == 0:
+            if args.clamping and chain.is_degenerate:
+                line += f"  immobile sub-chain {{{', '.join(map(str, chain.rigid_subchain))}}}"
+            elif args.dof == 0:
                 line += f"  K={chain.structural_number}"
             out.write(line + "\n")
     return 0

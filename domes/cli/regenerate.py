@@ -48,7 +48,8 @@ def _roles_text(candidate) -> str:
     return "  ".join(f"{r}={','.join(map(str, vs))}" for r, vs in sorted(by_role.items(), key=lambda x: x[1]))
 
 
-def print_regeneration(result: Regeneration, new_only: bool, out=sys.stdout) -> None:
+def print_regeneration(result: Regeneration, new_only: bool, out=None) -> None:
+    out = out or sys.stdout  # looked up now: the stdout of the moment (a test's capture), not of the import
     scene = result.scene
     out.write(f"{scene.title}  [{scene.name}]\n")
     if scene.source:
@@ -57,7 +58,8 @@ def print_regeneration(result: Regeneration, new_only: bool, out=sys.stdout) -> 
     out.write(f"  {'stage':<34s} {'count':>6s} {'book':>6s} {'raw S_i':>8s} {'n_i':>6s}\n")
     for s, n in zip(result.stages, result.divergence_numbers()):
         book = "-" if s.book is None else str(s.book)
-        out.write(f"  {s.name:<34s} {s.count:>6d} {book:>6s} {s.raw:>8d} {n:>6.2f}\n")
+        name = f"{s.name} [{s.change}]" if s.change else s.name
+        out.write(f"  {name:<34s} {s.count:>6d} {book:>6s} {s.raw:>8d} {n:>6.2f}\n")
     if scene.book_note:
         out.write(f"  book: {scene.book_note}\n")
 

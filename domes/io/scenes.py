@@ -26,11 +26,20 @@ from domes.model.chain import Chain
 from domes.model.labelled import JOINT_TYPES
 from domes.model.mobility import chain_joints
 from domes.model.requirements import RequirementSpec, placeholders
-from domes.typesynth.atlas import ChainGenerator
-from domes.typesynth.scene import SELECTIONS, Degrees, Particularization, Scene, SceneCheck, Stage, impossible_degree
+from domes.typesynth.atlas import ChainGenerator, clamping_joints
+from domes.typesynth.scene import (
+    KINDS,
+    Degrees,
+    Particularization,
+    Scene,
+    SceneCheck,
+    Stage,
+    impossible_degree,
+    mechanism_links,
+)
 
-_STAGE_KEYS = {"name", "role", "select", "rules", "note"}
-_CHAINS_KEYS = {"links", "dof", "include_fractionated"}
+_STAGE_KEYS = {"name", "role", "select", "rules", "note", "kind", "joint", "optional"}
+_CHAINS_KEYS = {"links", "dof", "include_fractionated", "clamping"}
 #: Up to this many links the degrees that occur are read off the atlas itself.
 DEGREES_FROM_ATLAS = 10
 _TOP_KEYS = {"name", "title", "source", "chains", "stages", "particularize", "existing", "book", "checks",
@@ -90,11 +99,14 @@ def parse_scene(src: TomlSource) -> Scene:
     if not isinstance(fractionated, bool):
         raise src.error(f"[chains] include_fractionated must be true or false, got {fractionated!r}",
                         src.line_of("include_fractionated"))
+    clamping = chains.get("clamping", False)
+    if not isinstance(clamping, bool):
+        raise src.error(f"[chains] clamping must be true or false, got {clamping!r}", src.line_of("clamping"))
     try:
-        chain_joints(links, dof)
+        clamping_joints(links, dof) if clamping else chain_joints(links, dof)
     except DomesError as exc:
         raise src.error(str(exc), src.line_of("links")) from None
-    degrees = link_degrees(links, dof, fractionated)
+    degrees = link_degrees(links, dof, fractionated, clamping)
 
     raw_stages = data.get("stages", [])
     if not isinstance(raw_stages, list) or not raw_stages:
@@ -104,8 +116,10 @@ def parse_scene(src: TomlSource) -> Scene:
         if isinstance(raw, dict) and isinstance(raw.get("role"), str):
             given_at.setdefault(normalise_name(raw["role"]), i)
     stages = tuple(_parse_stage(src, i, raw, given_at, degrees) for i, raw in enumerate(raw_stages))
+    _check_conversions(src, stages)
 
-    roles = {s.role for s in stages if not s.is_screen}
+    roles = {s.role for s in stages if s.role}
+    marks = {s.role: s for s in stages if s.is_conversion}
     particular = []
     for i, raw in enumerate(data.get("particularize", [])):
         line = src.table_line("particularize", i)
@@ -117,6 +131,17 @@ def parse_scene(src: TomlSource) -> Scene:
                 raise src.error(f"particularize: unknown role {role!r}; the stages give out {', '.join(sorted(roles))}", src.line_of(role, line) or line)
         if joint not in JOINT_TYPES:
             raise src.error(f"particularize: unknown joint type {joint!r}; known: {', '.join(JOINT_TYPES)}", src.line_of("joint", line) or line)
+        for role in between:
+            if normalise_name(role) in marks:
+                stage = marks[normalise_name(role)]
+                raise src.error(f"particularize: role {role!r} marks the links that stage {stages.index(stage) + 1} "
+                                f"({stage.name}) turns into a joint {stage.joint!r}; they are no links of the mechanism",
+                                src.line_of(role, line) or line)
+        clash = next((m for m in marks.values() if m.joint == joint), None)
+        if clash is not None:
+            raise src.error(f"particularize: joint {joint!r} is what stage {stages.index(clash) + 1} ({clash.name}) "
+                            f"makes of the {clash.role!r} links; a mechanism could not tell the two apart",
+                            src.line_of("joint", line) or line)
         particular.append(Particularization((normalise_name(between[0]), normalise_name(between[1])), joint))
 
     existing = []
@@ -129,8 +154,11 @@ def parse_scene(src: TomlSource) -> Scene:
             mechanism = read_topology((Path(src.path).parent / ref).resolve())
         except DomesError as exc:
             raise src.error(f"existing design {ref!r}: {exc}", line) from None
-        if mechanism.n != links:
-            raise src.error(f"existing design {ref!r} has {mechanism.n} links; the scene's chains have {links}", line)
+        fewest, most = mechanism_links(links, stages)
+        if not fewest <= mechanism.n <= most:
+            made = f"{fewest}" if fewest == most else f"{fewest} to {most}"
+            raise src.error(f"existing design {ref!r} has {mechanism.n} links; the scene's chains have {links}"
+                            + (f", its mechanisms {made}" if (fewest, most) != (links, links) else ""), line)
         existing.append(mechanism)
 
     book = data.get("book", {})
@@ -156,6 +184,7 @@ def parse_scene(src: TomlSource) -> Scene:
         links=links,
         dof=dof,
         include_fractionated=fractionated,
+        clamping=clamping,
         stages=stages,
         particularize=tuple(particular),
         existing=tuple(existing),
@@ -228,25 +257,105 @@ def _parse_design(src: TomlSource, raw, requirements, name) -> dict | None:
     return {"task": raw["task"], "checks": list(checks), "weights": dict(raw.get("weights", {}))}
 
 
-def link_degrees(links: int, dof: int, fractionated: bool) -> Degrees:
+def link_degrees(links: int, dof: int, fractionated: bool, clamping: bool = False) -> Degrees:
     """The numbers of joints the links of the scene's chains have, and what to call that range.
 
     Read off the atlas itself up to :data:`DEGREES_FROM_ATLAS` links (a tenth of a second); beyond, the
-    bound of Table 3-1: at most L + 1 joints on a link of a chain without a cut link, 2L with one.
+    bound of Table 3-1: at most L + 1 joints on a link of a chain without a cut link, 2L with one
+    (and a clamping chain's: a link may be jointed to every other).
     """
-    loops = chain_joints(links, dof) - links + 1
+    loops = (clamping_joints(links, dof) if clamping else chain_joints(links, dof)) - links + 1
     if links <= DEGREES_FROM_ATLAS:
-        found = {d for n, edges in ChainGenerator().chains(links, dof, fractionated) for d in Chain(n, edges).degrees}
+        found = {d for n, edges in ChainGenerator().chains(links, dof, fractionated, clamping)
+                 for d in Chain(n, edges).degrees}
         if found:
             return Degrees(frozenset(found), f"every link of the {links}-link chains of DOF {dof} has "
                            f"{_joints_text(found)} joints")
-    top = 2 * loops if fractionated else loops + 1
+    top = links - 1 if clamping else 2 * loops if fractionated else loops + 1
     return Degrees(frozenset(range(2, top + 1)), f"a link of a {links}-link chain with {loops} loops has 2 to {top} joints")
 
 
 def _joints_text(degrees) -> str:
     d = sorted(degrees)
     return str(d[0]) if len(d) == 1 else f"{d[0]} to {d[-1]}" if d == list(range(d[0], d[-1] + 1)) else ", ".join(map(str, d))
+
+
+def _check_conversions(src: TomlSource, stages: tuple[Stage, ...]) -> None:
+    """A role that marks links to become a joint is given by stages of one kind, joint and selection, and no two such
+    roles make the same joint: each joint of a mechanism then comes from one marking (one labelled chain).
+
+    The first stage of a role or a joint type is the one the error names; the line is the later stage's.
+    """
+    by_role: dict[str, tuple[int, Stage]] = {}
+    by_joint: dict[str, tuple[int, Stage]] = {}
+    for i, stage in enumerate(stages):
+        if not stage.role:
+            continue
+        first = by_role.setdefault(stage.role, (i, stage))
+        if (first[1].kind, first[1].joint, first[1].select) != (stage.kind, stage.joint, stage.select) and (
+                first[1].is_conversion or stage.is_conversion):
+            raise src.error(f"stage {i + 1}: role {stage.role!r} is given by stage {first[0] + 1} ({first[1].name}) as "
+                            f"{_what(first[1])}; here it is {_what(stage)}: give this stage a role of its own",
+                            stage.line)
+        if stage.is_conversion:
+            other = by_joint.setdefault(stage.joint, (i, stage))
+            if other[1].role != stage.role:
+                raise src.error(f"stage {i + 1}: joint {stage.joint!r} is made by stage {other[0] + 1} ({other[1].name}) "
+                                f"of the {other[1].role!r} links; a mechanism could not tell the two apart: "
+                                f"use role {other[1].role!r} here too", stage.line)
+
+
+def _what(stage: Stage) -> str:
+    """A stage's kind in words, for the errors of :func:`_check_conversions`."""
+    if stage.kind == "role":
+        return "a role"
+    return f"a {stage.kind} ({stage.tag})"
+
+
+def _parse_kind(src: TomlSource, i: int, raw: dict, line: int) -> tuple[str, str, str, str, bool]:
+    """``(kind, role, select, joint, optional)`` of a stage; a stage without a kind and a role is a screen."""
+    def at(key: str) -> int:
+        return src.line_of(key, line) or line
+
+    kind = raw.get("kind", "role")
+    if kind not in KINDS:
+        raise src.error(f"stage {i + 1}: kind must be one of {', '.join(KINDS)}, got {kind!r}", at("kind"))
+    selections, joints = KINDS[kind]
+    if kind == "role":
+        for key in ("joint", "optional"):
+            if key in raw:
+                raise src.error(f"stage {i + 1}: {key!r} belongs to a stage of kind "
+                                f"{', '.join(k for k in KINDS if k != 'role')}; this one gives a role", at(key))
+    else:
+        joint = raw.get("joint", joints[0] if kind == "joint type" else None)
+        if joint not in joints:
+            raise src.error(f"stage {i + 1}: a {kind} stage makes a joint {' or '.join(joints)} "
+                            f"(joint = ...), got {joint!r}", at("joint") if "joint" in raw else line)
+        optional = raw.get("optional", False)
+        if not isinstance(optional, bool):
+            raise src.error(f"stage {i + 1}: optional must be true or false, got {optional!r}", at("optional"))
+    if kind == "joint type":
+        if "role" in raw:
+            raise src.error(f"stage {i + 1}: a joint type stage gives no role (its rules speak of joint types)",
+                            at("role"))
+        select = raw.get("select", "joint")
+    elif "role" in raw:
+        if not isinstance(raw["role"], str) or not normalise_name(raw["role"]).isidentifier():
+            raise src.error(f"stage {i + 1}: 'role' must be a role name", at("role"))
+        select = raw.get("select", "link")
+    elif kind != "role":
+        raise src.error(f"stage {i + 1}: a {kind} stage needs a 'role' to mark the links it turns into a joint "
+                        f"(its rules speak of them by it)", line)
+    else:
+        if "select" in raw:
+            raise src.error(f"stage {i + 1}: a screen (a stage without a role) selects nothing", at("select"))
+        return kind, "", "screen", "", False
+    if select not in selections:
+        what = "" if kind == "role" else f" for a {kind} stage"
+        raise src.error(f"stage {i + 1}: select must be one of {', '.join(selections)}{what}, got {select!r}",
+                        at("select"))
+    role = normalise_name(raw["role"]) if "role" in raw else ""
+    return (kind, role, select, "", False) if kind == "role" else (kind, role, select, joint, optional)
 
 
 def _parse_stage(src: TomlSource, i: int, raw: object, given_at: dict[str, int], degrees: Degrees) -> Stage:
@@ -256,17 +365,7 @@ def _parse_stage(src: TomlSource, i: int, raw: object, given_at: dict[str, int],
     for key in raw:
         if key not in _STAGE_KEYS:
             raise src.error(f"stage {i + 1}: unknown key {key!r}; a stage has {', '.join(sorted(_STAGE_KEYS))}", src.line_of(key, line) or line)
-    if "role" in raw:
-        if not isinstance(raw["role"], str) or not normalise_name(raw["role"]).isidentifier():
-            raise src.error(f"stage {i + 1}: 'role' must be a role name", src.line_of("role", line) or line)
-        role = normalise_name(raw["role"])
-        select = raw.get("select", "link")
-        if select not in SELECTIONS:
-            raise src.error(f"stage {i + 1}: select must be one of {', '.join(SELECTIONS)}, got {select!r}", src.line_of("select", line) or line)
-    else:
-        role, select = "", "screen"
-        if "select" in raw:
-            raise src.error(f"stage {i + 1}: a screen (a stage without a role) selects nothing", src.line_of("select", line) or line)
+    kind, role, select, joint, optional = _parse_kind(src, i, raw, line)
     texts = raw.get("rules", [])
     if isinstance(texts, str):
         texts = [texts]
@@ -299,7 +398,8 @@ def _parse_stage(src: TomlSource, i: int, raw: object, given_at: dict[str, int],
     if why:  # each rule alone can hold, together they cannot
         raise src.error(f"stage {i + 1}: rules {' and '.join(repr(t) for t in texts)} cannot hold together: {why}",
                         src.line_of(texts[0], line) or line)
-    name = str(raw.get("name", role or f"screen {i + 1}"))
-    return Stage(name, role, select, tuple(trees), tuple(texts), tuple(compile_criterion(t) for t in trees), line)
+    name = str(raw.get("name", role or (kind if kind != "role" else f"screen {i + 1}")))
+    return Stage(name, role, select, tuple(trees), tuple(texts), tuple(compile_criterion(t) for t in trees), line,
+                 kind, joint, optional)
 
 

@@ -23,6 +23,10 @@ Both are isomorphism invariants, agree with each other (P holds for any
 independent loop exactly when the number of independent loops without P is
 0), and never exceed L. See docs/knowledge.md for the reasons.
 
+**Active pairs.** The active-pair criterion (:class:`~domes.language.tree.ActivePairs`)
+is computed only when a criterion asks for it, once per role, by
+:func:`domes.model.active.active_pairs`, and kept in the features.
+
 >>> from domes.model import LabelledChain
 >>> from domes.language.parse import parse_criterion
 >>> slider_crank = LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (3, 0)], {(3, 0): "P"})
@@ -37,6 +41,7 @@ from typing import Callable
 
 from domes.errors import InputError
 from domes.language.tree import (
+    ActivePairs,
     Adjacent,
     And,
     Count,
@@ -51,6 +56,7 @@ from domes.language.tree import (
     SharesJoint,
     TypeIs,
 )
+from domes.model.active import active_pairs
 from domes.model.labelled import JOINT_TYPES, LabelledChain
 from domes.model.topology import UNREACHABLE
 
@@ -70,7 +76,7 @@ class Features:
 
     __slots__ = (
         "topology", "n", "all", "type_mask", "degree_mask", "count_mask", "neighbours",
-        "typed_neighbours", "roles", "edge_types", "named_loops", "all_cycles",
+        "typed_neighbours", "roles", "edge_types", "named_loops", "all_cycles", "chain", "active",
     )
 
     def __init__(self, chain: LabelledChain):
@@ -119,6 +125,20 @@ class Features:
             loops[name] = (emask, vmask, len(links))
         self.named_loops = loops
         self.all_cycles = (1 << len(topo.cycle_edges)) - 1
+        self.chain = chain
+        self.active: dict = {}
+
+    def active_pairs(self, role: str):
+        """The :class:`~domes.model.active.ActivePairs` of the joints between the ground and the links
+        representing ``role`` (computed on first use), or, as text, why there are no such joints."""
+        found = self.active.get(role)
+        if found is None:
+            try:
+                found = active_pairs(self.chain, role=role)
+            except InputError as exc:
+                found = str(exc)
+            self.active[role] = found
+        return found
 
 
 def _edge_index(edges, a: int, b: int) -> int:
@@ -298,6 +318,14 @@ def compile_criterion(tree: Criterion) -> Callable[[Features], bool]:
     >>> test(graph_features(LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (0, 3)], {(0, 1): "P"})))
     False
     """
+    if isinstance(tree, ActivePairs):
+        role, kind = tree.role, tree.dof_type
+
+        def active(f: Features) -> bool:
+            found = f.active_pairs(role)
+            return not isinstance(found, str) and found.feasible and (kind is None or found.dof_type == kind)
+
+        return active
     domain = tree.domain
     if isinstance(tree, Count):
         cmp = tree.comparison

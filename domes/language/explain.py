@@ -12,8 +12,8 @@ True
 from __future__ import annotations
 
 from domes.language.evaluate import Features, compile_criterion, compile_loop, compile_vertex, graph_features
-from domes.language.render import comparison_text, condition_text
-from domes.language.tree import Count, Criterion
+from domes.language.render import comparison_text, condition_text, quoted
+from domes.language.tree import ActivePairs, Count, Criterion
 from domes.model.labelled import LabelledChain
 
 
@@ -27,11 +27,34 @@ def _loops(f: Features, test) -> list[int]:
     return [i for i, c in enumerate(zip(topo.cycle_edges, topo.cycle_vertices, topo.cycle_lengths)) if test(f, *c)]
 
 
+def _active(tree: ActivePairs, f: Features) -> str:
+    """Why the pairs between the ground and the links of a role are not the active pairs asked for."""
+    found = f.active_pairs(tree.role)
+    if isinstance(found, str):
+        return f"{found}: the {quoted(tree.role)} pairs must be active pairs"
+    if not found.feasible:
+        if not found.joints and not f.roles.get(tree.role):
+            return f"no link represents {quoted(tree.role)}, so {found.reason}"
+        return f"{found.reason} (each active pair must take exactly one DOF away, seed 002 §3-2-I.5)"
+    chain = f.chain
+    got = f"{found.dof_type} DOF" if found.dof_type else "no DOF type (the chain has no DOF)"
+    text = f"the {quoted(tree.role)} pairs {', '.join(found.names)} give {got}, not {tree.dof_type} DOF"
+    if found.dof_type == "partial":
+        inputs = {v for i in found.joints for v in chain.edges[i]}
+        for x in range(chain.n):
+            with_x = [found.names[k] for k, links in enumerate(found.moved_by) if x in links]
+            if x not in inputs and 0 < len(with_x) < len(found.joints):
+                return f"{text}: link {chain.link_name(x)} moves with {', '.join(with_x)} only"
+    return text
+
+
 def explain(tree: Criterion, chain: LabelledChain) -> str | None:
     """None when the graph meets the criterion, else one sentence saying what breaks it."""
     f = graph_features(chain)
     if compile_criterion(tree)(f):
         return None
+    if isinstance(tree, ActivePairs):
+        return _active(tree, f)
     domain, topo = tree.domain, f.topology
     loop = domain.kind != "vertex"
     if isinstance(tree, Count):

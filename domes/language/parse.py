@@ -13,6 +13,8 @@ docs/knowledge.md; :func:`parse_criterion` returns a
 Count(domain=Domain(kind='vertex', name=None), condition=TypeIs(relation='=', joints=('P', 'R')), comparison=Comparison(op='<=', value=1))
 >>> parse_criterion("the swing arm is adjacent to the ground")
 ForAll(domain=Domain(kind='vertex', name='swing_arm'), condition=Adjacent(role='ground', joint=None))
+>>> parse_criterion("the input pairs must be active pairs with full DOF")
+ActivePairs(role='input', dof_type='full')
 >>> parse_criterion("every vertex must have type (G P R")
 Traceback (most recent call last):
 ...
@@ -26,7 +28,9 @@ from dataclasses import dataclass
 
 from domes.errors import InputError
 from domes.language.tree import (
+    DOF_TYPES,
     NAME_PATTERN,
+    ActivePairs,
     Adjacent,
     AllOf,
     Always,
@@ -688,6 +692,8 @@ class _Parser:
                 self.accept("loop")
             else:
                 name = self.name("'every vertex', 'the vertex representing ...', 'the number of ...' or a name")
+                if self.at(*JOINT_NOUNS):
+                    return self.active_statement(name)
                 domain = Domain("loop", name) if self.accept("loop") else Domain("vertex", name)
         ctx = "vertex" if domain.kind == "vertex" else "loop"
         self.clause_modals = MODALS + ("is", "are")
@@ -700,6 +706,32 @@ class _Parser:
                 break
             self.i += 1
         return ForAll(domain, clauses[0] if len(clauses) == 1 else And(tuple(clauses)))
+
+    def active_statement(self, role: str) -> ActivePairs:
+        """``the input pairs must be active [pairs] [with full DOF]``: the active-pair criterion (§3-2-I.5)."""
+        self.expect(*JOINT_NOUNS)
+        tok = self.tok
+        if self.modal():
+            raise CriterionSyntaxError(
+                f"column {tok.pos + 1}: an active-pair statement cannot be negated: write "
+                f"'the {role.replace('_', ' ')} pairs must be active pairs'", tok.pos, "'must' without 'not'")
+        self.accept("be")
+        if not self.accept("active"):
+            self.error("'active' ('the input pairs must be active pairs')")
+        self.accept(*JOINT_NOUNS)
+        dof_type = None
+        if self.accept("with", "giving", "of"):
+            self.accept("a", "an")
+            word = self.accept(*DOF_TYPES, "total")
+            if word is None:
+                self.error("a DOF type: " + ", ".join(f"'{t}'" for t in DOF_TYPES))
+            dof_type = "full" if word == "total" else word
+            if self.accept("degrees", "degree"):
+                self.expect("of")
+                self.expect("freedom")
+            else:
+                self.expect("dof", "freedom")
+        return ActivePairs(role, dof_type)
 
     # -- relevance ------------------------------------------------------------------------
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from domes.errors import InputError
 from domes.language.tree import (
+    ActivePairs,
     Adjacent,
     AllOf,
     Always,
@@ -117,7 +118,12 @@ def render_criterion(tree: Criterion) -> str:
     >>> from domes.language.tree import Domain
     >>> render_criterion(Count(Domain("vertex"), TypeIs("=", ("P", "R")), Comparison("<=", 1)))
     'the number of vertices that have type (P R) must be at most 1'
+    >>> render_criterion(ActivePairs("input", "partial"))
+    'the “input” pairs must be active pairs with partial DOF'
     """
+    if isinstance(tree, ActivePairs):
+        kind = f" with {tree.dof_type} DOF" if tree.dof_type else ""
+        return f"the {quoted(tree.role)} pairs must be active pairs{kind}"
     d = tree.domain
     loop = d.kind != "vertex"
     if isinstance(tree, Count):

@@ -8,7 +8,11 @@ knowledge-engineer module (seed 002, §7-2, Table 7-3):
   representing a role, every independent loop, every loop, the named loop)
   satisfies a condition: categories (i), (iii), (v), (vi);
 * :class:`Count` -- the number of vertices or loops satisfying a condition
-  compares with a number: categories (ii), (iv).
+  compares with a number: categories (ii), (iv);
+* :class:`ActivePairs` -- the joints between the ground and the links of a
+  role can drive the chain together (the active-pair criterion, seed 002
+  §3-2-I.5), optionally with a DOF type: a statement about named vertices,
+  category (v).
 
 Conditions are trees of :class:`TypeIs`, :class:`JointCount`,
 :class:`Adjacent`, :class:`Distance`, :class:`Represents`, :class:`InLoop`,
@@ -44,6 +48,9 @@ TYPE_RELATIONS = ("=", "!=", "contains", "within")
 
 #: Domains of a statement: vertices, independent loops (a cycle basis), loops (every simple cycle).
 DOMAIN_KINDS = ("vertex", "independent_loop", "loop")
+
+#: DOF types an active-pair statement may require (seed 002 §3-2-I.5 (2)); "total" is read as "full".
+DOF_TYPES = ("full", "partial", "fractionated")
 
 #: Problem attributes a relevance condition may compare (names of :class:`~domes.knowledge.relevance.Problem` fields).
 PROBLEM_ATTRIBUTES = ("dof", "loops", "outputs", "gear_pairs", "slider_pairs", "links", "joints")
@@ -202,7 +209,21 @@ class Count:
     comparison: Comparison
 
 
-Criterion = Union[ForAll, Count]
+@dataclass(frozen=True)
+class ActivePairs:
+    """The joints between the ground and the links representing ``role`` can be active pairs together.
+
+    Each takes exactly one DOF away and together they leave none (the
+    active-pair criterion, seed 002 §3-2-I.5 (1); see
+    :func:`domes.model.active.active_pairs`); with ``dof_type``, they also
+    give that type of DOF (:data:`DOF_TYPES`, §3-2-I.5 (2)).
+    """
+
+    role: str = "input"
+    dof_type: str | None = None
+
+
+Criterion = Union[ForAll, Count, ActivePairs]
 
 
 # -- relevance conditions (on problem attributes) ----------------------------------
@@ -256,7 +277,7 @@ _NODES = {
     cls.__name__: cls
     for cls in (
         Comparison, TypeIs, JointCount, Adjacent, Distance, Represents, InLoop, HasMember, SharesJoint,
-        Not, And, Or, Domain, ForAll, Count, Always, HasName, ClassIs, Attribute, AllOf, AnyOf, NoneOf,
+        Not, And, Or, Domain, ForAll, Count, ActivePairs, Always, HasName, ClassIs, Attribute, AllOf, AnyOf, NoneOf,
     )
 }
 
@@ -294,7 +315,7 @@ def from_json(data: Any, where: str = "tree", expect: str | None = None) -> Any:
     domes.errors.InputError: tree: unknown node 'Eval'
     """
     node = _decode(data, where)
-    kinds = {"criterion": (ForAll, Count), "relevance": (Always, HasName, ClassIs, Attribute, AllOf, AnyOf, NoneOf)}
+    kinds = {"criterion": (ForAll, Count, ActivePairs), "relevance": (Always, HasName, ClassIs, Attribute, AllOf, AnyOf, NoneOf)}
     allowed = kinds[expect] if expect else kinds["criterion"] + kinds["relevance"]
     if not isinstance(node, allowed):
         raise InputError(f"{where}: {type(node).__name__} is not a {expect or 'criterion or relevance condition'}")
@@ -367,6 +388,11 @@ def _validate(node: Any, where: str, context: str | None = None) -> None:
                 _validate(node.condition, f"{where}.condition", ctx)
             _expect(node.comparison, Comparison, f"{where}.comparison")
             _validate(node.comparison, f"{where}.comparison")
+    elif isinstance(node, ActivePairs):
+        if context is not None:
+            raise InputError(f"{where}: ActivePairs is a criterion, not a {context} condition")
+        _check_str(node.role, f"{where}.role")
+        _check_str(node.dof_type, f"{where}.dof_type", DOF_TYPES, optional=True)
     elif isinstance(node, (Not, NoneOf)):
         _validate(node.item, f"{where}.item", context)
     elif isinstance(node, (And, Or, AllOf, AnyOf)):
@@ -423,7 +449,11 @@ def category(tree: Criterion) -> str:
 
     >>> category(Count(Domain("independent_loop"), JointCount("P", Comparison(">=", 1)), Comparison("<=", 1)))
     'iv'
+    >>> category(ActivePairs())          # about the named vertices ground and input
+    'v'
     """
+    if isinstance(tree, ActivePairs):
+        return "v"
     vertex = tree.domain.kind == "vertex"
     if isinstance(tree, Count):
         return "ii" if vertex else "iv"
@@ -460,6 +490,8 @@ def names_used(tree: Criterion) -> tuple[tuple[str, ...], tuple[str, ...]]:
             loops.add(node.loop)
         elif isinstance(node, Domain) and node.name is not None:
             (roles if node.kind == "vertex" else loops).add(node.name)
+        elif isinstance(node, ActivePairs):
+            roles.update(("ground", node.role))
     return tuple(sorted(roles)), tuple(sorted(loops))
 
 
@@ -479,7 +511,11 @@ def level(tree: Criterion) -> int:
     1
     >>> level(ForAll(Domain("vertex", "swing_arm"), Adjacent("ground")))
     2
+    >>> level(ActivePairs())            # the loops of the whole chain (a pebble game)
+    3
     """
+    if isinstance(tree, ActivePairs):
+        return 3
     if tree.domain.kind != "vertex" and tree.domain.name is None:
         return 3
     if tree.domain.kind != "vertex":

@@ -29,59 +29,80 @@ from domes.errors import InputError
 Edge = tuple[int, int]
 
 
-def pebble_sparse(n: int, edges: Iterable[Edge], k: int = 3, l: int = 4, copies: int = 2) -> bool:  # noqa: E741
-    """True when the graph with each edge taken ``copies`` times is ``(k, l)``-sparse (``0 ≤ l < 2k``).
+class PebbleGame:
+    """The ``(k, l)`` pebble game played edge by edge (``0 ≤ l < 2k``).
 
     Each vertex starts with ``k`` pebbles; an edge is accepted when ``l + 1``
     pebbles can be gathered on its two ends (moved along directed edges,
     which are reversed as a pebble travels), and then one is spent on it.
-    The first edge that cannot be accepted spans, with the vertices reached,
-    a set with more than ``k|S| − l`` edges.
+    An edge that cannot be accepted spans, with the vertices reached, a set
+    with more than ``k|S| − l`` edges: :meth:`add` returns that set.
 
-    >>> pebble_sparse(3, [(0, 1), (1, 2), (0, 2)])     # 6 > 3·3 − 4
-    False
+    >>> game = PebbleGame(3, k=3, l=3)        # a triangle of pins: 6 bars make it rigid, a 7th is one too many
+    >>> [game.add(u, v) for u, v in [(0, 1), (1, 2), (0, 2)] for _ in range(2)] + [game.add(0, 1)]
+    [None, None, None, None, None, None, {0, 1, 2}]
     """
-    if not 0 <= l < 2 * k:
-        raise InputError(f"the pebble game needs 0 <= l < 2k, got k={k}, l={l}")
-    pebbles = [k] * n
-    heads: list[list[int]] = [[] for _ in range(n)]       # the edges each vertex has spent a pebble on
 
-    def fetch(start: int, other: int) -> bool:
+    def __init__(self, n: int, k: int = 3, l: int = 4):  # noqa: E741
+        if not 0 <= l < 2 * k:
+            raise InputError(f"the pebble game needs 0 <= l < 2k, got k={k}, l={l}")
+        self.l = l  # noqa: E741
+        self.pebbles = [k] * n
+        self.heads: list[list[int]] = [[] for _ in range(n)]     # the edges each vertex has spent a pebble on
+
+    def _fetch(self, start: int, other: int) -> bool:
         """Bring one pebble to ``start`` from a vertex reachable from it (not ``other``), reversing the path."""
         parent = {start: -1, other: -1}
         stack = [start]
         while stack:
             x = stack.pop()
-            for y in heads[x]:
+            for y in self.heads[x]:
                 if y in parent:
                     continue
                 parent[y] = x
-                if pebbles[y]:
-                    pebbles[y] -= 1
-                    pebbles[start] += 1
+                if self.pebbles[y]:
+                    self.pebbles[y] -= 1
+                    self.pebbles[start] += 1
                     while y != start:                      # reverse the path start -> ... -> y
                         x = parent[y]
-                        heads[x].remove(y)
-                        heads[y].append(x)
+                        self.heads[x].remove(y)
+                        self.heads[y].append(x)
                         y = x
                     return True
                 stack.append(y)
         return False
 
-    for u, v in edges:
+    def add(self, u: int, v: int) -> set[int] | None:
+        """Accept the edge ``u-v`` if independent of those accepted (None); else the vertices of the set it
+        over-fills."""
         if u == v:
             raise InputError(f"joint ({u}, {v}) joins a link to itself")
-        for _ in range(copies):
-            while pebbles[u] + pebbles[v] <= l:
-                if not (fetch(u, v) or fetch(v, u)):
-                    return False
-            if pebbles[u]:
-                pebbles[u] -= 1
-                heads[u].append(v)
-            else:
-                pebbles[v] -= 1
-                heads[v].append(u)
-    return True
+        while self.pebbles[u] + self.pebbles[v] <= self.l:
+            if not (self._fetch(u, v) or self._fetch(v, u)):
+                seen, stack = {u, v}, [u, v]
+                while stack:
+                    for y in self.heads[stack.pop()]:
+                        if y not in seen:
+                            seen.add(y)
+                            stack.append(y)
+                return seen
+        if self.pebbles[u]:
+            self.pebbles[u] -= 1
+            self.heads[u].append(v)
+        else:
+            self.pebbles[v] -= 1
+            self.heads[v].append(u)
+        return None
+
+
+def pebble_sparse(n: int, edges: Iterable[Edge], k: int = 3, l: int = 4, copies: int = 2) -> bool:  # noqa: E741
+    """True when the graph with each edge taken ``copies`` times is ``(k, l)``-sparse (:class:`PebbleGame`).
+
+    >>> pebble_sparse(3, [(0, 1), (1, 2), (0, 2)])     # 6 > 3·3 − 4
+    False
+    """
+    game = PebbleGame(n, k, l)
+    return all(game.add(u, v) is None for u, v in edges for _ in range(copies))
 
 
 def pebble_degenerate(n: int, edges: Iterable[Edge]) -> bool:

@@ -27,6 +27,13 @@ Method (exact, not the book's SOC superposition of §3-2-II):
 Only one representative per orbit of link pairs under the automorphism
 group of ``H`` is tried, so little work is repeated.
 
+*Clamping chains* (``clamping=True``; seed 002, §3-3-I (4), Fig. 3-23) drop
+the non-degeneracy condition: a clamp works with ``W ≤ 0`` and its chain
+contains immobile sub-chains. They are every connected simple graph with
+the given links and joints, each link with two joints or more, any DOF,
+built the same two ways with the rigidity filter left out, by links and
+loops instead of DOF (:func:`clamping_ears`).
+
 >>> [len(chains(links=n, dof=1)) for n in (4, 6, 8)]
 [1, 2, 16]
 """
@@ -43,7 +50,7 @@ from domes.errors import InputError
 from domes.model.canon import automorphisms, canonical_form, certificate
 from domes.model.chain import Chain
 from domes.model.charpoly import characteristic_polynomial
-from domes.model.mobility import chain_joints
+from domes.model.mobility import chain_joints, check_count, joints_for
 from domes.model.pebble import decode_graph6, encode_graph6
 from domes.model.rigidity import MAX_LINKS, pair_slack
 from domes.results import Listing, Progress, Status, Ticker
@@ -105,12 +112,34 @@ def ears(task: tuple) -> list[tuple[object, bytes]]:
         ok = np.argwhere(np.triu(slack >= 3 - k, 1))
         if not len(ok):
             continue
-        pairs = [(int(u), int(v)) for u, v in ok]
-        for u, v in automorphisms(n, edges).pair_orbit_representatives(pairs):
-            child = _add_branch((n, edges), u, v, k)
-            key = graph_key(child, isomorphism)
-            if key not in out:
-                out[key] = pack(child)
+        _children(n, edges, [(int(u), int(v)) for u, v in ok], k, isomorphism, out)
+    return list(out.items())
+
+
+def _children(n, edges, pairs, k, isomorphism, out: dict) -> None:
+    """Add to ``out`` (key -> packed child) an ear of ``k`` binary links on one pair of ``pairs`` per orbit."""
+    for u, v in automorphisms(n, edges).pair_orbit_representatives(pairs):
+        child = _add_branch((n, edges), u, v, k)
+        key = graph_key(child, isomorphism)
+        if key not in out:
+            out[key] = pack(child)
+
+
+def clamping_ears(task: tuple) -> list[tuple[object, bytes]]:
+    """:func:`ears` without the rigidity filter, for clamping chains: an ear of ``k`` binary links on every pair
+    of links of each parent (with ``k = 0`` only between links not jointed already: joints stay simple), one
+    pair per orbit, each key once.
+
+    >>> len(clamping_ears(((_cycle(4),), 0, "nauty")))      # a diagonal of the four-bar: two triangles
+    1
+    """
+    parents, k, isomorphism = task
+    out: dict[object, bytes] = {}
+    for n, edges in parents:
+        jointed = {(min(u, v), max(u, v)) for u, v in edges}
+        pairs = [(u, v) for u in range(n) for v in range(u + 1, n) if k or (u, v) not in jointed]
+        if pairs:
+            _children(n, edges, pairs, k, isomorphism, out)
     return list(out.items())
 
 
@@ -223,6 +252,50 @@ def check_links(links: int) -> None:
                          f"per two links (6856 one-DOF chains of 12 links), and {links} links were asked for")
 
 
+#: Clamping atlases hold every graph of their size (no rigidity filter), so they grow much faster than the
+#: default ones: they stop at this many joints (measured: 46,604 chains of 12 links, 16 joints in 11 s; 94,484 of
+#: 11 links, 16 joints in 36 s and 0.5 GB) ...
+MAX_CLAMPING_JOINTS = 16
+#: ... except for chains of up to this many links, all of whose sizes are in reach (27,930 at most, 9 links,
+#: 19 joints, DOF -14, in 11 s).
+SMALL_CLAMPING_LINKS = 9
+
+
+def clamping_in_reach(links: int, joints: int) -> bool:
+    """True if the clamping atlas of this size is built (see :data:`MAX_CLAMPING_JOINTS`)."""
+    return links <= SMALL_CLAMPING_LINKS or joints <= MAX_CLAMPING_JOINTS
+
+
+def clamping_joints(links: int, dof: int) -> int:
+    """Joints ``j = (3(n − 1) − W)/2`` of a clamping chain of ``links`` links and DOF ``dof`` (any sign), with a
+    clear error when no such chain exists (no loop, an odd count, more joints than pairs of links, too large).
+
+    >>> clamping_joints(4, -1), clamping_joints(6, 1)
+    (5, 7)
+    """
+    check_count("links", links, 3)
+    if isinstance(dof, bool) or not isinstance(dof, (int, np.integer)):
+        raise InputError(f"dof must be a whole number, got {dof!r}")
+    twice = 3 * (links - 1) - dof
+    if twice % 2:
+        raise InputError(f"no clamping chain has {links} links and DOF {dof}: the joint count (3(n-1) - F)/2 = "
+                         f"{twice}/2 is not an integer; try {links - 1} or {links + 1} links")
+    joints = joints_for(links, dof)
+    if joints < links:
+        raise InputError(f"{links} links with DOF {dof} give {joints} joints: no closed chain (L = {joints - links + 1}); "
+                         f"a clamping chain of {links} links has DOF at most {links - 1}")
+    most = links * (links - 1) // 2
+    if joints > most:
+        raise InputError(f"{links} links with DOF {dof} need {joints} joints, but {links} links have only {most} pairs "
+                         f"(simple joints only); the least DOF of {links} links is {3 * (links - 1) - 2 * most}")
+    if not clamping_in_reach(links, joints):
+        raise InputError(f"the clamping chains of {links} links and {joints} joints (DOF {dof}) are out of reach: a "
+                         "clamping atlas keeps every graph of its size, rigid sub-chains and all, so it stops at "
+                         f"{MAX_CLAMPING_JOINTS} joints (about 100,000 chains) unless it has {SMALL_CLAMPING_LINKS} "
+                         "links or fewer; ask for fewer links or a higher DOF")
+    return joints
+
+
 @dataclass
 class ChainGenerator:
     """Generates chain atlases and remembers every atlas it has built.
@@ -242,6 +315,12 @@ class ChainGenerator:
     >>> gen = ChainGenerator()
     >>> len(gen.chains(links=7, dof=2)), len(gen.chains(links=7, dof=2, include_fractionated=True))
     (3, 4)
+
+    ``clamping=True`` admits immobile (rigid or over-constrained) sub-chains
+    and any DOF, ``W ≤ 0`` included: the chains of clamps (seed 002, §3-3-I (4)).
+
+    >>> len(gen.chains(links=4, dof=-1, clamping=True))      # K4 minus a joint: two rigid triangles
+    1
     """
 
     isomorphism: str = "nauty"
@@ -250,6 +329,8 @@ class ChainGenerator:
     checkpoints: object = None
     _blocks: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
     _all: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
+    _clamp_blocks: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
+    _clamp_all: dict[tuple[int, int], list[Graph]] = field(default_factory=dict, repr=False)
     _clock: Ticker = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
@@ -261,8 +342,20 @@ class ChainGenerator:
 
     # -- public -------------------------------------------------------------
 
-    def chains(self, links: int, dof: int, include_fractionated: bool = False) -> list[Graph]:
-        """All chains with ``links`` links and DOF ``dof``, canonically labelled and sorted."""
+    def chains(self, links: int, dof: int, include_fractionated: bool = False, clamping: bool = False) -> list[Graph]:
+        """All chains with ``links`` links and DOF ``dof``, canonically labelled and sorted.
+
+        With ``clamping`` (seed 002, §3-3-I (4)): every connected chain of
+        simple joints, each link with two or more, immobile sub-chains
+        admitted, for any DOF (``W ≤ 0`` for clamps); a superset of the
+        default atlas.
+        """
+        if clamping:
+            return self._clamping_chains(links, dof, include_fractionated)
+        if isinstance(dof, int) and not isinstance(dof, bool) and dof < 0:
+            raise InputError(f"a chain of DOF {dof} is over-constrained: it always holds an immobile sub-chain, which "
+                             "the atlas of mobile chains leaves out; to list such chains (clamps, W <= 0, seed 002 "
+                             "§3-3-I (4)) pass clamping=True (domes chains --clamping)")
         joints = chain_joints(links, dof)
         check_links(links)
         loops = joints - links + 1
@@ -421,6 +514,63 @@ class ChainGenerator:
             return None
         return lambda message: self.progress(f"{where}: {message}")
 
+    def _clamping_chains(self, links: int, dof: int, include_fractionated: bool) -> list[Graph]:
+        """Clamping chains (immobile sub-chains admitted) of ``links`` links and DOF ``dof``."""
+        loops = clamping_joints(links, dof) - links + 1
+        if include_fractionated:
+            return self._clamping_all(loops, links)
+        return self._clamping_two_connected(loops, links)
+
+    def _clamping_two_connected(self, loops: int, links: int) -> list[Graph]:
+        """Every 2-connected simple graph of ``links`` links and ``loops`` loops: each is a 2-connected graph with
+        one loop fewer plus an ear of ``k`` binary links (its last ear), with no rigidity filter."""
+        key = (loops, links)
+        if key in self._clamp_blocks:
+            return self._clamp_blocks[key]
+        if links < 3 or loops < 1 or links + loops - 1 > links * (links - 1) // 2:
+            result: list[Graph] = []
+        elif loops == 1:
+            result = [_cycle(links)]
+        else:
+            found: dict[object, Graph] = {}
+            for k in range(links - 2):                    # the parent keeps at least three links
+                parents = self._clamping_two_connected(loops - 1, links - k)
+                for index, parent in enumerate(parents):
+                    self._clock.tick(lambda: f"clamping, {links} links, {loops} loops: ear k={k} on parent "
+                                             f"{index + 1}/{len(parents)}, {len(found)} chains so far")
+                    for cert, packed in clamping_ears(((parent,), k, self.isomorphism)):
+                        if cert not in found:
+                            found[cert] = unpack(packed)
+            result = self._finish(found)
+        self._clamp_blocks[key] = result
+        return result
+
+    def _clamping_all(self, loops: int, links: int) -> list[Graph]:
+        """Every connected simple graph of ``links`` links (each with two joints or more) and ``loops`` loops: the
+        2-connected ones, and a smaller such graph ``G0`` with a 2-connected leaf block hung on it, on a shared link
+        or through ``k`` bridging joints (``links = links(G0) + links(B) + k − 1``, loops add up)."""
+        key = (loops, links)
+        if key in self._clamp_all:
+            return self._clamp_all[key]
+        found: dict[object, Graph] = {self._key(g): g for g in self._clamping_two_connected(loops, links)}
+        for loops_b in range(1, loops):
+            for links_b in range(3, links - 1):
+                blocks = self._clamping_two_connected(loops_b, links_b)
+                if not blocks:
+                    continue
+                block_sites = [(b, automorphisms(*b).orbits) for b in blocks]
+                for k in range(links - links_b - 1):      # the base keeps at least three links
+                    bases = self._clamping_all(loops - loops_b, links - links_b - k + 1)
+                    for base in bases:
+                        for u, *_ in automorphisms(*base).orbits:
+                            for block, orbits in block_sites:
+                                for c, *_ in orbits:
+                                    child = _glue(base, u, block, c, k)
+                                    found.setdefault(self._key(child), child)
+        result = self._finish(found)
+        self._clamp_all[key] = result
+        return result
+
     def _all_chains(self, loops: int, dof: int) -> list[Graph]:
         """All chains, with or without a cut link."""
         key = (loops, dof)
@@ -553,12 +703,13 @@ class Atlas(Listing):
     dof: int
     include_fractionated: bool = False
     isomorphism: str = "nauty"
+    clamping: bool = False
 
     items_field = "chains"
 
     @property
     def joints(self) -> int:
-        return chain_joints(self.links, self.dof)
+        return joints_for(self.links, self.dof)
 
     @property
     def status(self) -> Status:
@@ -567,8 +718,11 @@ class Atlas(Listing):
     @property
     def message(self) -> str:
         kind = "with or without a cut link" if self.include_fractionated else "without a cut link"
+        if self.clamping:
+            kind += ", immobile sub-chains admitted"
         method = "nauty, exact" if self.isomorphism == "nauty" else "the characteristic polynomial, not exact"
-        return (f"{len(self.chains)} chains of {self.links} links, {self.joints} joints, DOF {self.dof} "
+        what = "clamping chains" if self.clamping else "chains"
+        return (f"{len(self.chains)} {what} of {self.links} links, {self.joints} joints, DOF {self.dof} "
                 f"({kind}; duplicates removed by {method})")
 
     def __repr__(self) -> str:
@@ -576,7 +730,8 @@ class Atlas(Listing):
 
 
 def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism: str = "nauty",
-           progress: Progress | None = None, generator: ChainGenerator | None = None, executor=None) -> Atlas:
+           progress: Progress | None = None, generator: ChainGenerator | None = None, executor=None,
+           clamping: bool = False) -> Atlas:
     """Every non-isomorphic, non-degenerate chain of planar motion with revolute joints (some graphs non-planar).
 
     Chains with a cut link (fractionated) are left out unless
@@ -587,31 +742,43 @@ def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism
     ``generator`` (a :class:`ChainGenerator`) keeps the atlases built, for
     callers that ask again; by default each call builds its own;
     ``executor`` (:mod:`domes.execution`) runs the large levels in parallel
-    (same atlas).
+    (same atlas). ``clamping`` admits immobile sub-chains and DOF ``≤ 0``:
+    the chains of clamps (seed 002, §3-3-I (4), Fig. 3-23), see
+    :meth:`ChainGenerator.chains`.
 
     >>> len(chains(links=10, dof=1))
     230
     >>> len(chains(links=9, dof=2, include_fractionated=True))
     40
+    >>> chains(links=6, dof=-1, clamping=True).message
+    '9 clamping chains of 6 links, 8 joints, DOF -1 (without a cut link, immobile sub-chains admitted; duplicates removed by nauty, exact)'
     """
     if generator is None:
         generator = ChainGenerator(isomorphism=isomorphism, progress=progress, executor=executor)
     elif generator.isomorphism != isomorphism:
         raise InputError(f"the generator removes duplicates by {generator.isomorphism!r}, not {isomorphism!r}")
-    found = tuple(Chain(n, edges) for n, edges in generator.chains(links, dof, include_fractionated))
-    return Atlas(found, links, dof, include_fractionated, isomorphism)
+    found = tuple(Chain(n, edges) for n, edges in generator.chains(links, dof, include_fractionated, clamping))
+    return Atlas(found, links, dof, include_fractionated, isomorphism, clamping)
 
 
-def atlas_position(chain: Chain, generator: ChainGenerator | None = None) -> int | None:
+def atlas_position(chain: Chain, generator: ChainGenerator | None = None, clamping: bool = False) -> int | None:
     """The 1-based position of ``chain`` in its atlas (with cut links if it has one), or None.
 
     ``domes chains --links n --dof F [--include-fractionated]`` lists the chain
     at this position; a degenerate, disconnected or loop-free chain has none.
+    With ``clamping``, the position in the clamping atlas (``--clamping``),
+    where degenerate chains have one too.
 
     >>> atlas_position(Chain.from_graph6("ErOg"))   # the Stephenson chain
     1
     """
-    if chain.dof < 0 or chain.loops < 1 or not chain.is_connected or chain.is_degenerate:
+    if chain.loops < 1 or not chain.is_connected or min(chain.degrees, default=0) < 2:
         return None
-    listed = (generator or ChainGenerator()).chains(chain.n, chain.dof, include_fractionated=bool(chain.cut_links))
+    if clamping:
+        if not clamping_in_reach(chain.n, chain.joints):
+            return None
+    elif chain.dof < 0 or chain.is_degenerate:
+        return None
+    listed = (generator or ChainGenerator()).chains(chain.n, chain.dof, include_fractionated=bool(chain.cut_links),
+                                                    clamping=clamping)
     return next((i for i, (n, e) in enumerate(listed, 1) if Chain(n, e) == chain), None)

@@ -344,13 +344,17 @@ INDEXING = (ROOT / "examples" / "design" / "indexing-table.answers").read_text()
 
 def test_a_problem_of_the_second_class_gets_the_catalogue_then_type_synthesis(casebase):
     """Seed 002 §5-1: a function by motion mode. "rotation in, intermittent rotation out, dwell >= 90°" proposes
-    the catalogue's Geneva wheels, each with its measured dwell, and the dialogue goes on to new structures."""
+    the catalogue's Geneva wheels, each with its measured dwell, and the dialogue goes on to new structures,
+    regenerated with a cam pair and a spring (the divergence stages of §3-3-II in the cam-linkage scene)."""
     outcome, said = run(casebase, INDEXING)
     assert asked(outcome)[:4] == ["class", "function", "function_requirements", "outputs"]
     assert "Catalogue: complete: rotation → intermittent rotation: 2 catalogue mechanism(s), 2 meeting dwell >= 90" in said
     assert "proposed: Geneva wheel, 4 slots: index 90°; dwell 270°" in said
     assert "(dwell >= 90: has 240°)" in said
-    assert "2 of 2 candidates kept" in said and outcome.frame is not None
+    # regenerated candidates with a cam pair (C) on the driver and a return spring (S): the cam-linkage scene
+    assert "12 of 12 candidates kept" in said and outcome.frame is not None
+    kept = [line for line in said.splitlines() if line.strip().startswith("candidate ")]
+    assert len(kept) == 12 and all(":C" in line and ":S" in line and "input" in line for line in kept)
     strict = INDEXING.replace("function_requirements: dwell >= 90", "function_requirements: dwell >= 260; index = 90")
     _, said = run(casebase, strict)
     assert "1 meeting dwell >= 260; index = 90" in said and "left out: Geneva wheel, 6 slots" in said

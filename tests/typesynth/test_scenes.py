@@ -144,3 +144,18 @@ def test_regenerate_output_feeds_the_screening_stage(tmp_path, capsys):
     out = json.loads(capsys.readouterr().out)
     assert "tiles-radial" in out["applied"]
     assert len(out["kept"]) == 35  # the distance-2 reading of F1 keeps 35 of the 41
+
+
+def test_hinge_clamp_with_clamping_chains_matches_brute_force():
+    """The hinge clamp re-read on the clamping atlas (docs/regeneration.md): every connected graph of 6 links
+    and 7 joints with links of two or three joints (networkx's atlas of graphs, not ours), the same rules."""
+    from networkx import is_connected
+    from networkx.generators.atlas import graph_atlas_g
+    six = [g for g in graph_atlas_g() if g.number_of_nodes() == 6 and g.number_of_edges() == 7 and is_connected(g)
+           and {d for _, d in g.degree()} <= {2, 3}]
+    result = regenerate(load_scene("hinge-clamp-clamping"))
+    assert [(s.count, s.raw) for s in result.stages] == run(six, CLAMP)
+    # Watt and Stephenson as before (4 and 5), and the lost (c) and (d) read as the two rigid-triangle chains
+    per_chain = sorted(sum(1 for c in result.candidates if c.chain_index == i) for i in {c.chain_index
+                                                                                          for c in result.candidates})
+    assert len(six) == 4 and per_chain == [1, 4, 5, 7]
