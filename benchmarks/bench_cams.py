@@ -41,9 +41,9 @@ from domes.design.cam import Follower, design_cam, follow  # noqa: E402
 from domes.execution.threads import limited_threads  # noqa: E402
 from domes.io.mechanisms import load_mechanism  # noqa: E402
 from domes.model.gears import GearPair  # noqa: E402
+from domes.model.laws import Motion  # noqa: E402
 from domes.model.mechanism import Joint, Mechanism  # noqa: E402
 from domes.motion.geneva import Geneva  # noqa: E402
-from domes.motion.laws import Motion  # noqa: E402
 from domes.motion.planar.examples import four_bar  # noqa: E402
 from domes.motion.planar.sweep import sweep  # noqa: E402
 from domes.motion.planar.timed import timed  # noqa: E402

@@ -23,7 +23,7 @@ from domes.design.combination import cam_for_path
 from domes.errors import InputError
 from domes.io.files import read_text
 from domes.io.mechanisms import load_mechanism
-from domes.motion.laws import Motion, from_table, law_name, read_table
+from domes.model.laws import Motion, from_table, law_name, read_table
 
 
 def register(sub: argparse._SubParsersAction) -> None:

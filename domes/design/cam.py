@@ -2,7 +2,7 @@
 
 The cam turns about the origin at constant speed (``θ``, counter-clockwise
 when ``direction`` is +1); the follower's displacement ``s(θ)`` is a
-:class:`~domes.motion.laws.Motion` (a length for a translating follower, an
+:class:`~domes.model.laws.Motion` (a length for a translating follower, an
 angle in rad for an oscillating one). The profile is the cam's outline in
 its own frame, found by kinematic inversion: the follower's reference point
 (the knife edge or the roller's centre) traces the *pitch curve*
@@ -23,7 +23,7 @@ occurs. :func:`follow` is the converse, a cam pair in the backend: the
 follower's displacement, velocity and acceleration from a profile given as
 points (any cam), by the contact condition alone.
 
->>> from domes.motion.laws import Motion
+>>> from domes.model.laws import Motion
 >>> law = Motion.cam([("cycloidal", 120, 20), ("dwell", 60), ("3-4-5", 120, -20), ("dwell", 60)])
 >>> cam = design_cam(law, Follower("translating", "roller", roller=10, offset=5), base_radius=40)
 >>> round(cam.max_pressure_angle_deg, 2), cam.undercut
@@ -240,7 +240,7 @@ def design_cam(motion, follower: Follower, base_radius: float, direction: int = 
     roller's and where). ``max_pressure_deg`` (default 30° translating, 45°
     oscillating) is the pressure angle above which the result warns.
 
-    >>> from domes.motion.laws import Motion
+    >>> from domes.model.laws import Motion
     >>> flat = design_cam(Motion.cam([("harmonic", 180, 10), ("harmonic", 180, -10)]), Follower("translating", "flat"), 20)
     >>> round(flat.min_radius, 9), round(float(flat.radius.max()), 9)     # an eccentric circle: r_b + h/2
     (25.0, 25.0)
@@ -368,7 +368,7 @@ def follow(profile, follower: Follower, base_radius: float, theta, direction: in
     (knife, roller) on a translating or oscillating follower, and
     translating flat faces (from points).
 
-    >>> from domes.motion.laws import Motion
+    >>> from domes.model.laws import Motion
     >>> cam = design_cam(Motion.cam([("cycloidal", 180, 8), ("cycloidal", 180, -8)]), Follower("translating", "knife"), 30)
     >>> round(float(follow(cam, cam.follower, 30, [math.pi / 2]).s[0]), 9)
     4.0

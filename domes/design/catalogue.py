@@ -3,7 +3,7 @@
 :func:`measure` measures an :class:`~domes.knowledge.catalogue.Entry`'s
 properties on its model (the kinematics kernel's continuation sweep for a
 mechanism file, the closed forms of :mod:`domes.motion.geneva` and
-:mod:`domes.motion.laws` otherwise); :func:`propose` looks entries up by the
+:mod:`domes.model.laws` otherwise); :func:`propose` looks entries up by the
 motion they convert and keeps those whose measured properties meet the
 requirements, each with the reason it was kept or left out.
 
@@ -22,8 +22,8 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.knowledge.catalogue import Entry, motion_pair, requirement
+from domes.model.laws import Motion
 from domes.motion.geneva import Geneva
-from domes.motion.laws import Motion
 from domes.motion.planar.query import Kinematics
 from domes.motion.planar.sweep import sweep
 from domes.results import Listing, Status

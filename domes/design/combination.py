@@ -38,8 +38,8 @@ from scipy.interpolate import CubicSpline
 
 from domes.design.cam import MAX_POINTS, Cam, Follower, design_cam, follow
 from domes.errors import InputError, NumericalError
+from domes.model.laws import from_table
 from domes.model.mechanism import Mechanism
-from domes.motion.laws import from_table
 from domes.motion.planar.query import Kinematics
 from domes.results import Result, Status
 

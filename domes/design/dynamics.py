@@ -305,9 +305,10 @@ def inverse_dynamics(mech: Mechanism, start: float | None = None, stop: float | 
     length; inputs not given hold their drawn values), optionally with the
     ``time`` of each step. ``accuracy`` is the kinematics' knob.
     """
-    if mech.gears:
-        raise InputError(f"{mech.name}: gear pairs {[g.name for g in mech.gears]}: inverse dynamics does not model "
-                         "the mesh forces yet; the force ratios of domes.design.forces (virtual work) do take gears")
+    if mech.gears or mech.cams:
+        raise InputError(f"{mech.name}: gear and cam pairs {[g.name for g in mech.gears + mech.cams]}: inverse "
+                         "dynamics does not model their contact forces yet; the force ratios of domes.design.forces "
+                         "(virtual work) do take them")
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is found in the numbers and reported below
         if motion is not None:
             if start is not None or stop is not None:

@@ -40,12 +40,14 @@ from dataclasses import dataclass, field
 from typing import Iterable, Mapping
 
 from domes.errors import InputError
+from domes.model.cams import CamPair
 from domes.model.fields import LARGEST, check_space, read_list
 from domes.model.fields import check_keys as _keys
 from domes.model.fields import read_number as _num
 from domes.model.fields import read_xy as _xy
 from domes.model.gears import GearPair, read_teeth
 from domes.model.labelled import LabelledChain
+from domes.model.laws import Motion
 from domes.model.linkage import Linkage
 from domes.model.masses import MassModel
 from domes.model.mobility import mobility
@@ -117,13 +119,15 @@ class Mechanism(Linkage):
     source: str = field(default="", compare=False)
     masses: MassModel = MassModel()
     gears: tuple[GearPair, ...] = ()
+    cams: tuple[CamPair, ...] = ()
 
     @classmethod
     def build(cls, name, links, ground, joints, inputs, points=(), polygons=(), link_angles=None, source="",
-              masses: MassModel | None = None, gears=()):
+              masses: MassModel | None = None, gears=(), cams=()):
         """Validate, split compound hinges, and freeze. ``masses`` (:class:`~domes.model.masses.MassModel`):
         mass properties, loads, springs and gravity, for dynamics (none by default); ``gears``
-        (:class:`~domes.model.gears.GearPair`): gear and rack pairs."""
+        (:class:`~domes.model.gears.GearPair`): gear and rack pairs; ``cams``
+        (:class:`~domes.model.cams.CamPair`): cam pairs given by their follower's law."""
         where = f"{source}: " if source else ""
         links = tuple(str(x) for x in links)
         if len(set(links)) != len(links):
@@ -171,10 +175,10 @@ class Mechanism(Linkage):
                 raise InputError(f"{where}joint {j.name!r}: links {sorted(key)} are already joined by joint {pairs[key]!r}")
             pairs[key] = j.name
         by_name = {j.name: j for j in split}
-        gears = tuple(gears)
-        for g in gears:
-            where_g = f"{where}gear pair {g.name!r}"
-            if g.name in by_name or sum(1 for h in gears if h.name == g.name) > 1:
+        gears, cams = tuple(gears), tuple(cams)
+        for g in gears + cams:
+            where_g = f"{where}{'gear' if isinstance(g, GearPair) else 'cam'} pair {g.name!r}"
+            if g.name in by_name or sum(1 for h in gears + cams if h.name == g.name) > 1:
                 raise InputError(f"{where_g}: duplicate joint name")
             if len(g.links) != 2 or g.links[0] == g.links[1] or any(x not in links for x in g.links):
                 raise InputError(f"{where_g}: needs two different links of {list(links)}, got {list(g.links)}")
@@ -206,13 +210,16 @@ class Mechanism(Linkage):
         places = {j.name: j.links[0] for j in split} | {p.name: p.link for p in points}
         masses.check(links, places, where)
         mech = cls(name, links, ground, tuple(split), inputs, tuple(points), tuple(polygons),
-                   tuple(sorted(angles.items())), source, masses, gears)
+                   tuple(sorted(angles.items())), source, masses, gears, cams)
         for g in gears:
             g.mesh(mech)
+        for c in cams:
+            c.contact(mech)
         dof = mech.dof
         if dof != len(inputs):
-            count = f"3·{len(links) - 1} − 2·{len(split)}" + (f" − {len(gears)}" if gears else "")
-            raise InputError(f"{where}the mechanism has {dof} degree(s) of freedom (3(n−1) − 2j{' − j_G' if gears else ''}"
+            higher = len(gears) + len(cams)
+            count = f"3·{len(links) - 1} − 2·{len(split)}" + (f" − {higher}" if higher else "")
+            raise InputError(f"{where}the mechanism has {dof} degree(s) of freedom (3(n−1) − 2j{' − j_H' if higher else ''}"
                              f" = {count}) but {len(inputs)} input(s); give one driven joint per degree of freedom")
         return mech
 
@@ -220,9 +227,10 @@ class Mechanism(Linkage):
 
     @property
     def dof(self) -> int:
-        """Degrees of freedom by Grübler's count ``3(n − 1) − 2j − j_G`` (a gear pair has two freedoms)."""
-        pairs = len(self.joints) + len(self.gears)
-        return mobility(len(self.links), pairs, freedom=pairs + len(self.gears))
+        """Degrees of freedom by Grübler's count ``3(n − 1) − 2j − j_H`` (a gear or cam pair has two freedoms)."""
+        higher = len(self.gears) + len(self.cams)
+        pairs = len(self.joints) + higher
+        return mobility(len(self.links), pairs, freedom=pairs + higher)
 
     def meshes(self) -> list:
         """The gear pairs resolved (:class:`~domes.model.gears.Mesh`): kind, carrier, centres, ratio."""
@@ -263,7 +271,8 @@ class Mechanism(Linkage):
         (('R', 'P', 'R', 'R'), [0], 'frame')
         """
         index = {name: i for i, name in enumerate(self.links)}
-        pairs = list(self.joints) + [Joint(g.name, "G", g.links, g.at) for g in self.gears]
+        pairs = list(self.joints) + [Joint(g.name, "G", g.links, g.at) for g in self.gears] \
+            + [Joint(c.name, "C", c.links, c.at) for c in self.cams]
         return LabelledChain.build(
             len(self.links),
             [(index[j.links[0]], index[j.links[1]]) for j in pairs],
@@ -307,15 +316,21 @@ class Mechanism(Linkage):
             link_items[links[-1]] = item
             if "angle" in item:
                 link_angles[links[-1]] = to_rad(_num(item["angle"], f"{where}.angle"))
-        joints, gears = [], []
+        joints, gears, cams = [], [], []
         if not isinstance(data["joints"], list):
             raise InputError(f"{source}: joints: expected a list")
         for k, item in enumerate(data["joints"]):
             where = f"{source}: joints[{k}]"
-            _keys(item, {"name", "type", "links", "at", "direction", "origin", "teeth", "carrier"},
+            _keys(item, {"name", "type", "links", "at", "direction", "origin", "teeth", "carrier", "law", "phase"},
                   {"name", "type", "links", "at"}, where)
             if not isinstance(item["links"], list):
                 raise InputError(f"{where}.links: expected a list of link names")
+            if item["type"] == "C":
+                cams.append((item, where))
+                continue
+            extra = {"law", "phase"} & set(item)
+            if extra:
+                raise InputError(f"{where}: {sorted(extra)} belong to cam pairs (type 'C'), not to a {item['type']!r} joint")
             if item["type"] == "G":
                 if len(item["links"]) != 2:
                     raise InputError(f"{where}.links: a gear pair joins exactly two links")
@@ -331,6 +346,7 @@ class Mechanism(Linkage):
                 to_rad(_num(item.get("direction", 0.0), f"{where}.direction")),
                 _xy(item["origin"], f"{where}.origin") if "origin" in item else None,
             ))
+        cams = [_cam_from(item, where, to_rad, joints) for item, where in cams]
         inputs = []
         for k, item in enumerate(read_list(data["inputs"], f"{source}: inputs")):
             where = f"{source}: inputs[{k}]"
@@ -353,7 +369,7 @@ class Mechanism(Linkage):
                                     tuple(_xy(v, f"{where}.vertices[{i}]") for i, v in enumerate(vertices))))
         masses = MassModel.from_dict(data, link_items, source)
         return cls.build(str(data.get("name", source)), links, str(data["ground"]), joints, inputs,
-                         points, polygons, link_angles, source, masses, gears)
+                         points, polygons, link_angles, source, masses, gears, cams)
 
     def to_dict(self) -> dict:
         """The JSON structure of the mechanism (angles in degrees); inverse of :meth:`from_dict`."""
@@ -380,6 +396,15 @@ class Mechanism(Linkage):
             if g.carrier is not None:
                 item["carrier"] = g.carrier
             out["joints"].append(item)
+        for c in mech.cams:
+            oscillating = c.contact(mech).kind == "oscillating"
+            item = {"name": c.name, "type": "C", "links": list(c.links), "at": list(c.at),
+                    "law": [[g.law, deg(g.length), deg(g.rise) if oscillating else g.rise] for g in c.law.segments]}
+            if c.phase:
+                item["phase"] = deg(c.phase)
+            if c.carrier is not None:
+                item["carrier"] = c.carrier
+            out["joints"].append(item)
         for i in mech.inputs:
             scale = deg if mech.joint(i.joint).kind == "R" else float
             out["inputs"].append({"joint": i.joint, "speed": scale(i.speed), "acceleration": scale(i.acceleration)})
@@ -390,6 +415,31 @@ class Mechanism(Linkage):
                                for p in mech.polygons]
         out.update(mech.masses.to_dict())
         return out
+
+
+def _cam_from(item, where: str, to_rad, joints) -> CamPair:
+    """A cam pair from its file item: ``law`` as ``[law, degrees, rise]`` rows over one turn, the rise a length for
+    a translating follower (one on a P joint) and an angle in the file's unit for an oscillating one."""
+    if len(item["links"]) != 2:
+        raise InputError(f"{where}.links: a cam pair joins exactly two links [cam, follower]")
+    if "law" not in item:
+        raise InputError(f"{where}: a cam pair needs its follower's 'law': rows [law, degrees, rise] over one turn")
+    cam, follower = (str(x) for x in item["links"])
+    on_cam_carrier = {x for j in joints if j.kind == "R" and cam in j.links for x in j.links} - {cam}
+    sliding = any(j.kind == "P" and follower in j.links and set(j.links) & on_cam_carrier for j in joints)
+    rows = []
+    for k, r in enumerate(read_list(item["law"], f"{where}.law")):
+        if not isinstance(r, list) or len(r) not in (2, 3):
+            raise InputError(f"{where}.law[{k}]: expected [law, degrees] or [law, degrees, rise], got {r!r}")
+        rise = _num(r[2], f"{where}.law[{k}][2]") if len(r) == 3 else 0.0
+        rows.append((r[0], _num(r[1], f"{where}.law[{k}][1]"), rise if sliding else to_rad(rise)))
+    try:
+        law = Motion.cam(rows)
+    except InputError as exc:
+        raise InputError(f"{where}.law: {exc}") from None
+    return CamPair(str(item["name"]), (cam, follower), _xy(item["at"], f"{where}.at"), law,
+                   to_rad(_num(item.get("phase", 0.0), f"{where}.phase")),
+                   str(item["carrier"]) if "carrier" in item else None)
 
 
 # -- file format ------------------------------------------------------------------

@@ -18,7 +18,7 @@ import pytest
 
 from domes.design.cam import Follower, design_cam, follow
 from domes.errors import InputError
-from domes.motion.laws import LAWS, Motion, from_table, normalised
+from domes.model.laws import LAWS, Motion, from_table, normalised
 
 RISES = [law for law in LAWS if law != "dwell"]
 

@@ -19,8 +19,8 @@ import pytest
 from domes.design.dynamics import inverse_dynamics
 from domes.errors import InputError
 from domes.model.gears import GearPair
+from domes.model.laws import Motion, Segment
 from domes.model.mechanism import Input, Joint, Mechanism
-from domes.motion.laws import Motion, Segment
 from domes.motion.planar.batch import batch
 from domes.motion.planar.examples import four_bar
 from domes.motion.planar.kernel import vectorizable
@@ -271,7 +271,7 @@ def test_file_errors_name_the_field():
 
 
 def test_inverse_dynamics_refuses_gears_plainly():
-    with pytest.raises(InputError, match="mesh forces"):
+    with pytest.raises(InputError, match="does not model their contact forces"):
         inverse_dynamics(train([20, 40]), 0.0, 1.0, 0.1)
 
 

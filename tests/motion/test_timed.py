@@ -13,7 +13,7 @@ import pytest
 
 from domes.errors import NumericalError
 from domes.io.mechanisms import load_mechanism
-from domes.motion.laws import Motion
+from domes.model.laws import Motion
 from domes.motion.planar.examples import four_bar, slider_crank, triple_rocker
 from domes.motion.planar.timed import timed
 

@@ -44,6 +44,8 @@ SIGNED = ("RRR", "RPR", "RRP")
 def vectorizable(kin) -> bool:
     """Whether every group the query needs is a driver, a dyad with a closed form, or geared to the inputs alone."""
     for g in kin.groups:
+        if g.kind == "cammed":
+            return False
         if g.kind == "geared":
             if not _inputs_only(kin.structure, g):
                 return False
@@ -153,9 +155,11 @@ class Program:
 
     def __init__(self, kin):
         if not vectorizable(kin):
+            others = [g.label for g in kin.groups if g.kind in ("cammed", "geared") or
+                      (g.index not in kin.plans and len(g.links) > 1)]
             raise InputError(f"{kin.mech.name}: the kernel evaluates drivers, dyads and gears driven by the inputs "
-                             f"only; groups {[g.label for g in kin.groups if g.index not in kin.plans and len(g.links) > 1]} "
-                             "need Newton's method")
+                             f"only; groups {others} are solved step by step (Newton's method, cams, gears driven "
+                             "by a linkage)")
         self.kin = kin
         mech = kin.mech
         self.mech = mech

@@ -28,7 +28,7 @@ import numpy as np
 from domes.errors import InputError, NumericalError
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.dyads import DyadPlan, Unassembled, Undetermined
-from domes.motion.planar.structure import Structure, evaluate
+from domes.motion.planar.structure import Rotation, Structure, evaluate
 from domes.results import Result, Status
 
 
@@ -312,8 +312,10 @@ class Kinematics:
         values.update(self._input_values(inputs))
         derived = self.structure.derived
         for g in self.groups:
+            # derived variables of the group that depend on known ones only (all of them, but in a single Newton
+            # group of every link) are set before its loops are solved
+            values.update({v: derived[v].value(values) for v in self.structure.derived_of(g)})
             if not g.unknowns:
-                values.update({v: derived[v].value(values) for v in self.structure.derived_of(g)})
                 continue
             before = [values[v] for v in g.unknowns]
             try:
@@ -327,7 +329,6 @@ class Kinematics:
                 raise SolveFailure(str(exc), FailureKind.UNDETERMINED, g) from None
             if guess is not None:
                 self._check_jump(g, before, values)
-            values.update({v: derived[v].value(values) for v in self.structure.derived_of(g)})
         self.groups_solved += sum(1 for g in self.groups if g.unknowns)
         return values
 
@@ -415,7 +416,7 @@ class Kinematics:
         accels = {v: accelerations.get(j, self.inputs[j].acceleration) for j, v in self.structure.input_vars.items()}
         residual, condition = 0.0, 1.0
         for g in self.groups:
-            self._derive_rates(rates, accels)
+            self._derive_rates(rates, accels, values)
             if not g.unknowns:
                 continue
             col = {v: k for k, v in enumerate(g.unknowns)}
@@ -464,15 +465,22 @@ class Kinematics:
                     rhs[2 * i:2 * i + 2] -= np.asarray(c) * rates[v]
             sol = np.linalg.solve(J, rhs)
             accels.update(zip(g.unknowns, map(float, sol)))
-        self._derive_rates(rates, accels)
+        self._derive_rates(rates, accels, values)
         return rates, accels, residual, condition
 
-    def _derive_rates(self, rates, accels):
-        """Rates and accelerations of the derived slides whose terms are known (linear: exact)."""
+    def _derive_rates(self, rates, accels, values=None):
+        """Rates and accelerations of the derived variables whose terms' are known: racks' slides (linear) and,
+        given the ``values``, cams' followers (:class:`~domes.motion.planar.structure.CamTie`)."""
         for v, expr in self.structure.derived.items():
-            for store in (rates, accels):
-                if v not in store and all(t in store for t, _ in expr.terms):
-                    store[v] = expr.rate(store)
+            if isinstance(expr, Rotation):
+                for store in (rates, accels):
+                    if v not in store and all(t in store for t, _ in expr.terms):
+                        store[v] = expr.rate(store)
+            elif values is not None and v not in rates and all(t in rates for t, _ in expr.terms):
+                rate, accel = expr.motion(values, rates, accels if all(t in accels for t, _ in expr.terms) else None)
+                rates[v] = rate
+                if accel is not None:
+                    accels[v] = accel
 
     # -- outputs -----------------------------------------------------------------------
 

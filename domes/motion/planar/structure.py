@@ -9,7 +9,9 @@ turning together, named ``rot:<first link of the class>``) and the inputs
 A gear pair (:mod:`domes.model.gears`) is one linear equation among these
 (Willis' formula relative to its carrier): it eliminates a rotation variable
 from every expression, or makes a rack's slide a *derived* variable, a
-linear expression in the others.
+linear expression in the others. A cam pair (:mod:`domes.model.cams`) makes
+its follower's variable (slide or rotation) a derived one too, through its
+law (:class:`CamTie`).
 
 A *group* is a set of moving links whose variables are fixed once the links
 it is jointed to are known: an Assur group, or a driver (a link with a
@@ -212,11 +214,12 @@ class Structure:
         self.rotations = rotations          # link -> Rotation
         self.input_vars = inputs            # joint name -> variable name
         self.drawn = drawn                  # variable -> value in the drawn pose
-        self.derived = derived or {}        # slide variable fixed by a rack -> Rotation (a linear expression)
+        self.derived = derived or {}        # variable fixed by a rack or a cam -> Rotation or CamTie
 
     def derived_of(self, g: Group) -> list[str]:
-        """The derived slide variables of ``g``'s joints (set once ``g``'s variables are known)."""
-        return [v for v in (f"s:{j}" for j in g.joints) if v in self.derived]
+        """The derived variables of ``g`` (its joints' slides, its links' rotations), set once ``g``'s are known."""
+        names = [f"s:{j}" for j in g.joints] + [f"rot:{x}" for x in g.links]
+        return [v for v in names if v in self.derived]
 
     # -- construction ----------------------------------------------------------------
 
@@ -228,6 +231,9 @@ class Structure:
         rotations, input_vars, drawn = _rotation_classes(mech)
         meshes = mech.meshes()
         derived = _mesh_gears(mech, meshes, rotations, input_vars, drawn)
+        contacts = [c.contact(mech) for c in mech.cams]
+        derived.update(_cam_ties(mech, contacts, rotations, input_vars, drawn))
+        meshes = meshes + [_Higher(c.cam, c.follower, c.carrier) for c in contacts]
         driven = set(input_vars)
         known = {mech.ground}
         owner: dict[str, int] = {}
@@ -260,6 +266,12 @@ class Structure:
             seg_vars |= {_slide_var(j, input_vars) for j in js if j.kind == "P"}
             for v in [v for v in seg_vars if v in derived]:
                 seg_vars |= {w for w, _ in derived[v].terms} - {v}
+                inner = {w for w, _ in derived[v].terms} & ({w for x in cand for w, _ in rotations[x].terms}
+                                                            - set(derived) - set(owner))
+                if inner - {w for w in inner if w.startswith("q:")}:
+                    raise InputError(f"{mech.name}: {v[2:]!r} is driven by a gear or cam pair through the unknowns "
+                                     f"{sorted(inner)} of the group {list(cand)} it belongs to; solve with the "
+                                     "method 'assur', which places it after them")
             unknowns = tuple(sorted(v for v in seg_vars if not v.startswith("q:") and v not in owner
                                     and v not in derived))
             for v in unknowns:
@@ -273,7 +285,8 @@ class Structure:
             loops = _group_loops(mech, cand, js, allowed, rotations, input_vars)
             kind = _group_kind(mech, cand, [j.name for j in js], driven)
             if not unknowns and not {j.name for j in js} & driven and any({m.a, m.b} & set(cand) for m in meshes):
-                kind = "geared"
+                ties = [derived.get(v) for v in [f"rot:{x}" for x in cand] + [f"s:{j.name}" for j in js]]
+                kind = "cammed" if any(isinstance(t, CamTie) for t in ties) else "geared"
             if len(unknowns) != 2 * len(loops):
                 raise InputError(f"{mech.name}: links {list(cand)} ({kind}) have {len(unknowns)} unknowns for "
                                  f"{2 * len(loops)} loop equations: not a determinate group (e.g. three P joints)")
@@ -433,6 +446,74 @@ def _mesh_gears(mech: Mechanism, meshes, rotations: dict, input_vars: dict, draw
         else:
             drawn.pop(var, None)
     return derived
+
+
+@dataclass(frozen=True)
+class _Higher:
+    """A higher pair as the group search counts it: one constraint among ``a``, ``b`` and their carrier."""
+
+    a: str
+    b: str
+    carrier: str
+
+
+@dataclass(frozen=True)
+class CamTie:
+    """A follower's variable driven by its cam: ``base + sign·(L(φ + x) − L(φ))``, ``x`` the cam's turn on the
+    carrier and ``base`` the carrier's rotation (oscillating follower) or the drawn slide (translating).
+
+    Like :class:`Rotation` it has ``terms`` (what it depends on) and a ``value``; its rates are not linear:
+    :meth:`motion` gives its rate and acceleration from the variables' own.
+    """
+
+    law: object
+    phase: float
+    turn: Rotation
+    base: Rotation
+    sign: float
+
+    @property
+    def terms(self) -> tuple[tuple[str, float], ...]:
+        return tuple(dict(self.turn.terms + self.base.terms).items())
+
+    def value(self, values) -> float:
+        s0 = float(self.law.evaluate(self.phase, 0)[0])
+        return self.base.value(values) + self.sign * (float(self.law.evaluate(self.phase + self.turn.value(values), 0)[0]) - s0)
+
+    def motion(self, values, rates, accels=None) -> tuple[float, float | None]:
+        """The rate and (with ``accels``) the acceleration: ``L'·ẋ`` and ``L''·ẋ² + L'·ẍ``, plus the base's."""
+        _, d1, d2 = (float(v) for v in self.law.evaluate(self.phase + self.turn.value(values), 2))
+        xd = self.turn.rate(rates)
+        rate = self.base.rate(rates) + self.sign * d1 * xd
+        if accels is None:
+            return rate, None
+        return rate, self.base.rate(accels) + self.sign * (d2 * xd * xd + d1 * self.turn.rate(accels))
+
+
+def _cam_ties(mech: Mechanism, contacts, rotations: dict, input_vars: dict, drawn: dict) -> dict:
+    """Each cam pair's follower variable as a :class:`CamTie` of the cam's turn on its carrier."""
+    out: dict = {}
+    for c in contacts:
+        where = f"{mech.name}: cam pair {c.pair.name!r}"
+        turn = _combine([(1.0, rotations[c.cam]), (-1.0, rotations[c.carrier])])
+        if c.kind == "translating":
+            var = input_vars.get(c.joint, f"s:{c.joint}")
+            base = Rotation((), drawn[var])
+        else:
+            var = f"rot:{c.follower}"
+            if rotations[c.follower] != Rotation(((var, 1.0),)) or c.joint in input_vars:
+                raise InputError(f"{where}: the follower {c.follower!r} must turn freely on the carrier (its rotation "
+                                 "is already fixed by a driven joint, a gear or a slider)")
+            base = rotations[c.carrier]
+        if var.startswith("q:"):
+            raise InputError(f"{where}: the follower's joint {c.joint!r} is driven; the cam drives it")
+        if var in out or var not in drawn:
+            raise InputError(f"{where}: the follower's {'slide' if c.kind == 'translating' else 'rotation'} is "
+                             "already fixed by another pair")
+        if var in {v for v, _ in turn.terms}:
+            raise InputError(f"{where}: the cam's turn depends on its own follower")
+        out[var] = CamTie(c.pair.law, c.pair.phase, turn, base, c.sign)
+    return out
 
 
 def _combine(parts, const: float = 0.0) -> Rotation:

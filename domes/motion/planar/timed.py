@@ -1,7 +1,7 @@
 """A mechanism driven by a motion law over time (seed 000 §2.10's motion class; issue 26, item 3).
 
 A sweep walks the input's value; a designer's input moves in time, by a
-law (:mod:`domes.motion.laws`): ``q(t) = q0 + s(t)``, ``q̇ = s'(t)``,
+law (:mod:`domes.model.laws`): ``q(t) = q0 + s(t)``, ``q̇ = s'(t)``,
 ``q̈ = s''(t)``. :func:`timed` solves the mechanism at every time on the
 drawn assembly mode (the states of a continuation sweep over the range the
 law covers set the branch) and carries the law's velocity and acceleration
@@ -10,7 +10,7 @@ time, ``ẏ = y_q q̇`` and ``ÿ = y_qq q̇² + y_q q̈``, as the query computes
 from the actual input rates.
 
 >>> import math
->>> from domes.motion.laws import Motion
+>>> from domes.model.laws import Motion
 >>> from domes.motion.planar.examples import four_bar
 >>> law = Motion([("cycloidal", 0.5, math.pi / 2), ("dwell", 0.25), ("cycloidal", 0.5, -math.pi / 2)])
 >>> run = timed(four_bar(), law, [0.0, 0.25, 0.6], outputs=["angle:rocker"])
@@ -62,8 +62,8 @@ def timed(mech: Mechanism, law, times, outputs=None, order: int = 2, joint: str 
           start: float | None = None, accuracy=None, progress: Progress | None = None) -> TimedMotion:
     """Drive ``joint`` (default the first input) by ``law`` from ``start`` (default its drawn value) at ``times``.
 
-    ``law`` is a :class:`~domes.motion.laws.Motion` or
-    :class:`~domes.motion.laws.TableMotion` whose ``s`` is the input's
+    ``law`` is a :class:`~domes.model.laws.Motion` or
+    :class:`~domes.model.laws.TableMotion` whose ``s`` is the input's
     displacement (rad for an R joint). Raises a NumericalError naming the
     time when the law asks for a value the linkage cannot reach.
     """
