@@ -33,6 +33,7 @@ SKIPPED = {
     "DOMES_FULL_TESTS=1 python -m pytest": "the test suite itself, in full",
     "python benchmarks/": "the benchmarks: tests/test_benchmarks.py starts each one",
     "chromium ": "the screenshots of docs/images (a maintainer's step)",
+    "domes cases replay --all": ".ci/run replays every shipped case with the installed wheel (exit 0 required)",
 }
 #: Commands that read answers on the terminal: here stdin is empty, so they end at the first question (exit 1).
 INTERACTIVE = ("domes design", "domes design --record my-session.json")
