@@ -237,15 +237,15 @@ def _apply(chain: LabelledChain, choice: tuple[int, ...], stage: Stage) -> Label
     return _assign(chain, choice, stage.role)
 
 
-def _ruled_joints(chain: LabelledChain, scene: Scene) -> list[int]:
-    """The joints a ``[[particularize]]`` rule gives a type, by the roles of their links."""
-    out = []
+def _ruled_joints(chain: LabelledChain, scene: Scene) -> dict[int, str]:
+    """The joints a ``[[particularize]]`` rule gives a type, by the roles of their links: index -> type (the
+    last rule that applies)."""
+    out = {}
     for i, (u, v) in enumerate(chain.edges):
         for rule in scene.particularize:
             a, b = rule.between
             if (a in chain.roles[u] and b in chain.roles[v]) or (b in chain.roles[u] and a in chain.roles[v]):
-                out.append(i)
-                break
+                out[i] = rule.joint
     return out
 
 
@@ -259,12 +259,8 @@ def particularize(chain: LabelledChain, scene: Scene) -> LabelledChain:
     """Restore joint types from roles (e.g. the joint inside the shock absorber becomes ``P``), then turn the links
     marked by higher pair and force member stages into joints between their neighbours (:func:`contract`)."""
     types = list(chain.joint_types)
-    for i in _ruled_joints(chain, scene):
-        (u, v) = chain.edges[i]
-        for rule in scene.particularize:
-            a, b = rule.between
-            if (a in chain.roles[u] and b in chain.roles[v]) or (b in chain.roles[u] and a in chain.roles[v]):
-                types[i] = rule.joint
+    for i, joint in _ruled_joints(chain, scene).items():
+        types[i] = joint
     return contract(chain.with_joint_types(types), scene)
 
 
