@@ -464,7 +464,9 @@ def executor(workers: int | None = None, scheduler: str | None = None, rerun: st
 def _quiet_dask():
     """Dask's loggers (``distributed`` and each ``distributed.*`` its configuration set a level for) and those of
     its event loop (``tornado``, ``asyncio``) say only what is critical in the body. Their levels are put back
-    after, unless a cluster could not be closed (it may still speak: of workers it cannot restart, say)."""
+    after, unless a cluster could not be closed (it may still speak: of workers it cannot restart, say), except
+    ``asyncio``'s: a task of the Dask client that failed when its workers were lost is reported ("Task exception
+    was never retrieved", with a traceback) only when it is collected, after the body."""
     names = ["distributed", "tornado", "asyncio"] + [name for name in logging.root.manager.loggerDict
                                                      if name.startswith(("distributed.", "tornado."))]
     loggers = [logging.getLogger(name) for name in names]
@@ -476,8 +478,9 @@ def _quiet_dask():
         yield closed
     finally:
         if closed.cleanly:
-            for logger, level in zip(loggers, levels):
-                logger.setLevel(level)
+            for name, logger, level in zip(names, loggers, levels):
+                if name != "asyncio":
+                    logger.setLevel(level)
 
 
 class _Closed:
