@@ -562,14 +562,19 @@ class ChainGenerator:
                 for k in range(links - links_b - 1):      # the base keeps at least three links
                     bases = self._clamping_all(loops - loops_b, links - links_b - k + 1)
                     for base in bases:
-                        for u, *_ in automorphisms(*base).orbits:
-                            for block, orbits in block_sites:
-                                for c, *_ in orbits:
-                                    child = _glue(base, u, block, c, k)
-                                    found.setdefault(self._key(child), child)
+                        self._glue_blocks(base, block_sites, k, found)
         result = self._finish(found)
         self._clamp_all[key] = result
         return result
+
+    def _glue_blocks(self, base: Graph, block_sites, k: int, found: dict) -> None:
+        """Add to ``found`` each block of ``block_sites`` glued to ``base`` by ``k`` bridging joints, one link of
+        each orbit on either side."""
+        for u, *_ in automorphisms(*base).orbits:
+            for block, orbits in block_sites:
+                for c, *_ in orbits:
+                    child = _glue(base, u, block, c, k)
+                    found.setdefault(self._key(child), child)
 
     def _all_chains(self, loops: int, dof: int) -> list[Graph]:
         """All chains, with or without a cut link."""
@@ -597,11 +602,7 @@ class ChainGenerator:
                     block_sites = [(b, automorphisms(*b).orbits) for b in blocks]
                     for index, base in enumerate(bases):
                         self._clock.tick(lambda: f"{links} links, DOF {dof}: cut-link chains from base {index + 1}/{len(bases)}")
-                        for u, *_ in automorphisms(*base).orbits:
-                            for block, orbits in block_sites:
-                                for c, *_ in orbits:
-                                    child = _glue(base, u, block, c, k)
-                                    found.setdefault(self._key(child), child)
+                        self._glue_blocks(base, block_sites, k, found)
         result = self._finish(found)
         self._save_level(name, result)
         self._all[key] = result
