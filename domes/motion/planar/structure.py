@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass
+from functools import cached_property
 from itertools import combinations
 
 from domes.errors import InputError
@@ -476,9 +477,14 @@ class CamTie:
     def terms(self) -> tuple[tuple[str, float], ...]:
         return tuple(dict(self.turn.terms + self.base.terms).items())
 
+    @cached_property
+    def _s0(self) -> float:
+        """The law at the drawn pose (evaluated once)."""
+        return float(self.law.evaluate(self.phase, 0)[0])
+
     def value(self, values) -> float:
-        s0 = float(self.law.evaluate(self.phase, 0)[0])
-        return self.base.value(values) + self.sign * (float(self.law.evaluate(self.phase + self.turn.value(values), 0)[0]) - s0)
+        here = float(self.law.evaluate(self.phase + self.turn.value(values), 0)[0])
+        return self.base.value(values) + self.sign * (here - self._s0)
 
     def motion(self, values, rates, accels=None) -> tuple[float, float | None]:
         """The rate and (with ``accels``) the acceleration: ``L'·ẋ`` and ``L''·ẋ² + L'·ẍ``, plus the base's."""
