@@ -12,9 +12,15 @@ of ``--repeat`` runs of:
 - the Geneva wheel's closed form at ``--steps`` angles;
 - a four-bar driven by a motion law in time (``domes.motion.planar.timed``)
   at ``--steps`` times;
-- gear pairs in the kernel: a planetary train (``examples/mechanisms/planetary.json``,
-  arrays) and a sector gear on a four-bar's rocker (scalar path) swept over
-  ``--steps`` steps, order 2, with the largest error against Willis' formula;
+- gear pairs in the kernel: a planetary train (``examples/mechanisms/planetary.json``)
+  and a sector gear on a four-bar's rocker swept over ``--steps`` steps,
+  order 2, with the largest error against Willis' formula;
+- a cam-driven linkage (``examples/mechanisms/cam-rocker.json``: a cam, its
+  translating follower, a rod and a rocker) swept the same way, with the
+  follower's largest acceleration error against the law's closed form;
+- the sector gear and the cam-driven linkage also step by step (the scalar
+  path, each step solved from the loop equations), with the largest
+  difference of the kernel's table from it;
 - beside them, the kinematics kernel's sweep of the same four-bar over
   ``--steps`` steps (positions, and order 2).
 
@@ -44,8 +50,10 @@ from domes.model.gears import GearPair  # noqa: E402
 from domes.model.laws import Motion  # noqa: E402
 from domes.model.mechanism import Joint, Mechanism  # noqa: E402
 from domes.motion.geneva import Geneva  # noqa: E402
+from domes.motion.planar.continuation import Continuation, grid  # noqa: E402
 from domes.motion.planar.examples import four_bar  # noqa: E402
-from domes.motion.planar.sweep import sweep  # noqa: E402
+from domes.motion.planar.query import Kinematics  # noqa: E402
+from domes.motion.planar.sweep import _scalar_sweep, sweep  # noqa: E402
 from domes.motion.planar.timed import timed  # noqa: E402
 
 
@@ -89,12 +97,33 @@ def rows(steps: int, repeat: int) -> list[tuple[str, float, str]]:
     t, sw = median_time(lambda: sweep(sector, 0.0, 2 * math.pi, 2 * math.pi / steps,
                                       outputs=["angle:pinion", "angle:rocker"], order=2), repeat)
     err = float(np.max(np.abs(sw.table["angle:pinion''"] + 2 * sw.table["angle:rocker''"])))
-    out.append(("sector gear on a four-bar's rocker, order 2 (scalar path)", t, f"largest acceleration error {err:.1e}"))
+    out.append(("sector gear on a four-bar's rocker, order 2 (kernel, arrays)", t,
+                f"largest acceleration error against Willis {err:.1e}"))
+    out.append(_step_by_step("sector gear on a four-bar's rocker", sector, ["angle:pinion", "angle:rocker"], sw,
+                             steps, repeat))
+    cams = load_mechanism(ROOT / "examples/mechanisms/cam-rocker.json")
+    outs = ["slide:S", "angle:rocker", "point:E"]
+    t, sw = median_time(lambda: sweep(cams, 0.0, 2 * math.pi, 2 * math.pi / steps, outputs=outs, order=2), repeat)
+    law, ws = cams.cams[0].law, cams.inputs[0].speed
+    err = float(np.max(np.abs(sw.table["slide:S''"] - ws * ws * law.evaluate(sw.inputs)[2])))
+    out.append(("cam-driven linkage (cam, follower, rod, rocker), order 2 (kernel, arrays)", t,
+                f"largest follower acceleration error against the law {err:.1e}"))
+    out.append(_step_by_step("cam-driven linkage", cams, outs, sw, steps, repeat))
     for order in (0, 2):
         t, sw = median_time(lambda: sweep(four_bar(), 0.0, 2 * math.pi, 2 * math.pi / steps, outputs=["angle:rocker"],
                                       order=order), repeat)
         out.append((f"kernel sweep of the four-bar, order {order} (yardstick)", t, f"{sw.inputs.size} steps"))
     return out
+
+
+def _step_by_step(name, mech, outputs, fast, steps, repeat):
+    """The same sweep on the scalar path, and the largest difference of the kernel's table from it."""
+    kin = Kinematics(mech, outputs, 2)
+    qs = grid(0.0, 2 * math.pi, 2 * math.pi / steps)
+    t, slow = median_time(lambda: _scalar_sweep(kin, Continuation(kin), qs, None), repeat)
+    diff = max(float(np.max(np.abs(fast.table[c] - slow.table[c]) / np.maximum(1.0, np.max(np.abs(slow.table[c])))))
+               for c in slow.columns)
+    return f"{name}, order 2 (scalar path, step by step)", t, f"kernel's table differs by {diff:.1e} (relative)"
 
 
 def main(argv=None) -> int:

@@ -29,9 +29,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from domes.motion.planar.kernel import Program
+from domes.motion.planar.kernel import Program, cam_rates
 from domes.motion.planar.query import JUMP, sign_key
-from domes.motion.planar.structure import evaluate
+from domes.motion.planar.structure import CamTie, Rotation, evaluate
 
 
 class Compiled:
@@ -80,7 +80,7 @@ def positions_many(compiled: Compiled, joint: str, qs, start: dict, others: dict
     groups = [g for g in kin.groups if g.unknowns]
     signs = {g.index: start[sign_key(g)] for g in groups if sign_key(g) in start}
     fixed = {j: (others or {}).get(j, start[v]) for j, v in s.input_vars.items() if j != joint}
-    pose = compiled.program.poses(compiled.geometry, qs, joint, fixed, signs)
+    pose = compiled.program.poses(compiled.geometry, qs, joint, fixed, signs, start)
     values: dict = dict(start)
     for j, v in s.input_vars.items():
         values[v] = qs if j == joint else float(fixed[j])
@@ -112,8 +112,10 @@ def positions_many(compiled: Compiled, joint: str, qs, start: dict, others: dict
             path = np.concatenate(([start[v]], values[v]))[0 if jumps else 1:]
             change = np.abs(np.diff(path)) / (1.0 if v.startswith("rot:") else kin.size)
             fail(np.concatenate(([False] if not jumps else [], ~(change <= JUMP))), "jump", g)
-    for v, expr in s.derived.items():  # racks' slides: linear in the inputs on this path
-        values[v] = np.broadcast_to(expr.value(values), (n,)).astype(float)
+    for g in kin.groups:  # racks' slides and cams' followers, as the kernel placed them
+        for v in s.derived_of(g):
+            value = pose.values[v] if v in pose.values else s.derived[v].value(values)
+            values[v] = np.broadcast_to(value, (n,)).astype(float)
     roots = {i: np.broadcast_to(r, (n,)) for i, r in pose.root.items()}
     margins = {i: np.broadcast_to(r, (n,)) for i, r in pose.margin.items()}
     return Run(values, roots, first, margins)
@@ -196,7 +198,7 @@ def motion_many(kin, values: dict, order: int):
     residual = np.zeros(n)
     condition = np.ones(n)
     for g in kin.groups:
-        kin._derive_rates(rates, accels)
+        _derive(kin, values, rates, accels, order)
         if not g.unknowns:
             continue
         A, J, loops = _stack(kin, g, values)
@@ -218,8 +220,23 @@ def motion_many(kin, values: dict, order: int):
         sol = _solve(safe, _rhs(n, g, loops, col, accels, rates))
         sol[~ok] = np.nan
         accels.update({v: sol[:, k] for k, v in enumerate(g.unknowns)})
-    kin._derive_rates(rates, accels)
+    _derive(kin, values, rates, accels, order)
     return rates, accels, residual, condition
+
+
+def _derive(kin, values, rates, accels, order):
+    """Rates and accelerations of the derived variables whose terms' are known (on arrays), as
+    :meth:`~domes.motion.planar.query.Kinematics._derive_rates`: racks' slides (linear) and cams' followers."""
+    for v, expr in kin.structure.derived.items():
+        if isinstance(expr, Rotation):
+            for store in (rates, accels):
+                if v not in store and all(t in store for t, _ in expr.terms):
+                    store[v] = expr.rate(store)
+        elif isinstance(expr, CamTie) and order and v not in rates and all(t in rates for t, _ in expr.terms):
+            rate, accel = cam_rates(expr, values, rates, accels if all(t in accels for t, _ in expr.terms) else None)
+            rates[v] = rate
+            if accel is not None:
+                accels[v] = accel
 
 
 def outputs_many(kin, values, rates, accels, order: int) -> dict:

@@ -37,27 +37,118 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.motion.planar.dyads import ASSEMBLY_SLACK
+from domes.motion.planar.structure import CamTie, Rotation
 
 SIGNED = ("RRR", "RPR", "RRP")
 
 
 def vectorizable(kin) -> bool:
-    """Whether every group the query needs is a driver, a dyad with a closed form, or geared to the inputs alone."""
+    """Whether every group the query needs is a driver, a dyad with a closed form, or a geared or cammed group
+    whose pairs are driven by the inputs and the links those place (:func:`blocked` names the others)."""
+    return not blocked(kin)
+
+
+def blocked(kin) -> list[str]:
+    """Labels of the groups the kernel cannot evaluate: groups solved by Newton's method, and geared or cammed
+    groups that read a variable no earlier driver or dyad holds on arrays.
+
+    >>> from domes.motion.planar.examples import four_bar
+    >>> from domes.motion.planar.query import Kinematics
+    >>> blocked(Kinematics(four_bar(), method="newton"))
+    ['3-link group {crank, coupler, rocker}']
+    """
+    newton = [g.label for g in kin.groups if g.kind not in ("geared", "cammed") and g.index not in kin.plans
+              and (g.unknowns or len(g.links) > 1)]
+    return newton + _compile(kin)[2]
+
+
+def _compile(kin):
+    """What the kernel carries between groups: ``(reads, order, blocked)``.
+
+    ``reads[i]`` lists the variables that later gear and cam pairs need from
+    dyad ``i``, in the order they are read: ``("rot", var, link, coeff,
+    rest)`` (from ``link``'s rotation ``coeff·var + rest``) or ``("slide",
+    var, joint)``. ``order[i]`` lists the derived variables of geared or
+    cammed group ``i`` (racks' slides, cams' followers) in the order they are
+    computed; ``blocked`` the labels of the geared or cammed groups that need
+    a variable no earlier step holds.
+    """
+    s = kin.structure
+    have = set(s.input_vars.values())
+    offers: dict = {}
+    reads: dict = {}
+    order: dict = {}
+    stuck: list = []
+
+    def get(v) -> bool:
+        if v in have:
+            return True
+        if v not in offers:
+            return False
+        index, how = offers[v]
+        have.add(v)
+        if how[0] == "rot" and not all(get(w) for w, _ in how[4].terms):
+            have.discard(v)
+            return False
+        reads.setdefault(index, []).append(how)
+        return True
+
     for g in kin.groups:
-        if g.kind == "cammed":
-            return False
-        if g.kind == "geared":
-            if not _inputs_only(kin.structure, g):
-                return False
-        elif (g.unknowns or len(g.links) > 1) and g.index not in kin.plans:
-            return False
-    return True
+        if g.kind in ("geared", "cammed"):
+            own = s.derived_of(g)
+            done: list = []
+            pending = list(own)
+            while pending:
+                v = next((v for v in pending if all(w in done or (w not in own and get(w))
+                                                    for w, _ in s.derived[v].terms if w != v)), None)
+                if v is None:
+                    break
+                done.append(v)
+                pending.remove(v)
+            links_ok = all(w in done or get(w) for x in g.links for w, _ in s.rotations[x].terms)
+            if pending or not links_ok:
+                stuck.append(g.label)
+            order[g.index] = done
+            have.update(done)
+        elif g.index in kin.plans:
+            for x in g.links:
+                expr = s.rotations[x]
+                var, coeff = next(((v, c) for v, c in expr.terms if v in g.unknowns), (None, 0.0))
+                if var is not None and var not in offers:
+                    rest = Rotation(tuple((v, c) for v, c in expr.terms if v != var), expr.const)
+                    offers[var] = (g.index, ("rot", var, x, coeff, rest))
+            for jn in g.joints:
+                if f"s:{jn}" in g.unknowns:
+                    offers[f"s:{jn}"] = (g.index, ("slide", f"s:{jn}", jn))
+    return reads, order, stuck
 
 
-def _inputs_only(s, g) -> bool:
-    """Whether a geared group's rotations and racks' slides are linear in the inputs alone (no other group's)."""
-    exprs = [s.rotations[x] for x in g.links] + [s.derived[v] for v in s.derived_of(g)]
-    return all(v.startswith("q:") for e in exprs for v, _ in e.terms)
+def law_at(tie, turn, order: int = 2) -> tuple:
+    """A cam's law and its derivatives at ``phase + turn`` (arrays; NaN where the turn is not finite).
+
+    >>> from domes.model.laws import Motion
+    >>> from domes.motion.planar.structure import CamTie, Rotation
+    >>> tie = CamTie(Motion.cam([("cycloidal", 180, 1.0), ("cycloidal", 180, -1.0)]), 0.0, Rotation(()), Rotation(()), 1.0)
+    >>> [round(float(x), 6) for x in law_at(tie, np.array([np.pi / 2, np.nan]), 0)[0]]
+    [0.5, nan]
+    """
+    x = np.asarray(tie.phase + turn, dtype=float)
+    ok = np.isfinite(x)
+    return tuple(np.where(ok, v, np.nan) for v in tie.law.evaluate(np.where(ok, x, 0.0), order))
+
+
+def cam_rates(tie, values, rates, accels=None, law=None) -> tuple:
+    """A cam follower's rate and (given ``accels``) acceleration on arrays, as
+    :meth:`~domes.motion.planar.structure.CamTie.motion`: ``L'·ẋ`` and ``L''·ẋ² + L'·ẍ``, plus the base's.
+
+    ``law`` is the law's ``(L, L', L'')`` at the follower's turn when already evaluated.
+    """
+    _, d1, d2 = law if law is not None else law_at(tie, tie.turn.value(values), 2)
+    xd = tie.turn.rate(rates)
+    rate = tie.base.rate(rates) + tie.sign * d1 * xd
+    if accels is None:
+        return rate, None
+    return rate, tie.base.rate(accels) + tie.sign * (d2 * xd * xd + d1 * tie.turn.rate(accels))
 
 
 def _c(p) -> complex:
@@ -115,6 +206,9 @@ class Poses:
     discriminants, ``margin`` their signed assembly margins (a length, positive
     where the dyad assembles, negative beyond a limit, not clamped: its root
     is the limit), ``closure`` each dyad's loop-closure error (absolute).
+    ``values`` holds the variables gear and cam pairs read (inputs, rotations
+    read from dyads' links, racks' slides, followers' variables) and
+    ``turns`` each cam's turn (by its follower's variable).
     """
 
     links: dict
@@ -126,6 +220,9 @@ class Poses:
     root: dict = field(default_factory=dict)
     margin: dict = field(default_factory=dict)
     closure: dict = field(default_factory=dict)
+    values: dict = field(default_factory=dict)
+    turns: dict = field(default_factory=dict)
+    laws: dict = field(default_factory=dict)
 
     def world(self, geom: Geometry, link: str, name: str):
         """World position of the drawn point (joint or coupler point) ``name`` of ``link``."""
@@ -143,32 +240,44 @@ class Poses:
 
 @dataclass
 class Motion:
-    """Angular and linear rates of each link (``w``, ``V`` at its anchor) and slide rates, at one derivative level."""
+    """Angular and linear rates of each link (``w``, ``V`` at its anchor) and slide rates, at one derivative level.
+
+    ``rates`` holds the same level's rates of the variables in :attr:`Poses.values`.
+    """
 
     w: dict
     V: dict
     slide: dict
+    rates: dict = field(default_factory=dict)
 
 
 class Program:
-    """A compiled :class:`~domes.motion.planar.query.Kinematics` of drivers and dyads, evaluated on arrays."""
+    """A compiled :class:`~domes.motion.planar.query.Kinematics` of drivers, dyads, gear and cam pairs, on arrays.
+
+    A geared or cammed group reads the rotations of the links placed before
+    it (a dyad's link: its angle from the drawn pose, continuous along the
+    last axis from the drawn pose or the ``start`` of :meth:`poses`) and
+    their rates; a cam's follower moves by its law at the cam's turn.
+    """
 
     def __init__(self, kin):
-        if not vectorizable(kin):
-            others = [g.label for g in kin.groups if g.kind in ("cammed", "geared") or
-                      (g.index not in kin.plans and len(g.links) > 1)]
-            raise InputError(f"{kin.mech.name}: the kernel evaluates drivers, dyads and gears driven by the inputs "
-                             f"only; groups {others} are solved step by step (Newton's method, cams, gears driven "
-                             "by a linkage)")
+        others = blocked(kin)
+        if others:
+            raise InputError(f"{kin.mech.name}: the kernel evaluates drivers, dyads, and gear and cam pairs driven "
+                             f"by the inputs and the links these place; groups {others} are solved step by step "
+                             "(Newton's method)")
         self.kin = kin
+        self.reads, order, _ = _compile(kin)
+        s = kin.structure
+        self.lifts = {v: float(t.law.evaluate(t.phase, 0)[0]) for v, t in s.derived.items() if isinstance(t, CamTie)}
         mech = kin.mech
         self.mech = mech
         self.ground = mech.ground
         self.steps = []
         placed = {mech.ground}
         for g in kin.groups:
-            if g.kind == "geared":
-                self.steps.append(("geared", g, _placements(mech, g, placed)))
+            if g.kind in ("geared", "cammed"):
+                self.steps.append(("geared", g, _placements(mech, g, placed), order[g.index]))
             elif g.index in kin.plans:
                 plan = kin.plans[g.index]
                 ka = next(x for x in plan.a.links if x != plan.l1)
@@ -254,16 +363,21 @@ class Program:
     # -- positions -----------------------------------------------------------------------
 
     def poses(self, geom: Geometry, q, joint: str | None = None, others: dict | None = None,
-              signs: dict | None = None) -> Poses:
+              signs: dict | None = None, start: dict | None = None) -> Poses:
         """Place every needed link at the input values ``q`` of ``joint`` (default: the first input).
 
         Other inputs keep their drawn values (or ``others``); ``signs`` (group
-        index -> ±1) overrides the drawn assembly modes.
+        index -> ±1) overrides the drawn assembly modes. Rotations that gear and
+        cam pairs read from dyads' links are continuous along the last axis of
+        ``q``, from the state ``start`` (variable -> value; default the drawn pose).
         """
         joint = joint or self.mech.inputs[0].joint
         inputs = {j: (q if j == joint else (others or {}).get(j, geom.drawn[j])) for j in self.inputs}
         shape = np.broadcast_shapes(np.shape(q), (geom.count, 1) if geom.count is not None else ())
         pose = Poses({self.ground: (1.0 + 0j, 0j, 0j)}, {}, inputs, shape)
+        variables = self.kin.structure.input_vars
+        pose.values = {variables[j]: np.asarray(v, dtype=float) for j, v in inputs.items()}
+        start = self.kin.structure.drawn if start is None else start
         for kind, g, *rest in self.steps:
             if kind == "driver":
                 self._driver(geom, pose, *rest)
@@ -271,6 +385,8 @@ class Program:
                 self._geared(geom, pose, g, *rest)
             else:
                 self._dyad(geom, pose, g, *rest, (signs or {}).get(g.index, geom.sign.get(g.index, 1.0)))
+                for how in self.reads.get(g.index, ()):
+                    pose.values[how[1]] = _read(pose, how, start)
         return pose
 
     def _driver(self, geom, pose, j, link, known):
@@ -288,17 +404,26 @@ class Program:
             pose.links[link] = (R, X + _sigma(j, known) * (q - geom.s0[j.name]) * R * geom.direction[j.name],
                                 geom.at[j.name])
 
-    def _geared(self, geom, pose, g, placements):
-        """Place a geared group's links: rotations (and racks' slides) linear in the inputs, each at its joint."""
+    def _geared(self, geom, pose, g, placements, order):
+        """Place a geared or cammed group's links, each at its joint: first the derived variables (racks' slides,
+        linear; followers', by their cams' laws), then the rotations (linear in the variables read so far)."""
         s = self.kin.structure
-        values = {f"q:{j}": np.asarray(q, dtype=float) for j, q in pose.inputs.items()}
+        values = pose.values
+        for v in order:
+            expr = s.derived[v]
+            if isinstance(expr, CamTie):
+                turn = pose.turns[v] = expr.turn.value(values)
+                lift = expr.sign * (law_at(expr, turn, 0)[0] - self.lifts[v])
+                values[v] = (geom.s0[v[2:]] if v.startswith("s:") else expr.base.value(values)) + lift
+            else:
+                values[v] = expr.value(values)
         for link, j, known in placements:
             X = pose.world(geom, known, j.name)
             R = np.exp(1j * s.rotations[link].value(values))
             if j.kind == "R":
                 pose.links[link] = (R, X, geom.at[j.name])
             else:
-                x = s.derived[f"s:{j.name}"].value(values)
+                x = values[f"s:{j.name}"]
                 pose.slides[j.name] = x
                 u = pose.links[known][0] * geom.direction[j.name]
                 pose.links[link] = (R, X + _sigma(j, known) * (x - geom.s0[j.name]) * u, geom.at[j.name])
@@ -417,15 +542,19 @@ class Program:
         levels: list[Motion] = []
         given = [{j: (speeds or {}).get(j, i.speed) for j, i in self.inputs.items()},
                  {j: (accelerations or {}).get(j, i.acceleration) for j, i in self.inputs.items()}]
+        variables = self.kin.structure.input_vars
         for level in range(1, order + 1):
-            m = Motion({self.ground: 0.0}, {self.ground: 0j}, {})
+            m = Motion({self.ground: 0.0}, {self.ground: 0j}, {},
+                       {variables[j]: r for j, r in given[level - 1].items()})
             for kind, g, *rest in self.steps:
                 if kind == "driver":
                     self._driver_motion(geom, pose, levels, m, given[level - 1], *rest)
                 elif kind == "geared":
-                    self._geared_motion(geom, pose, levels, m, given[level - 1], *rest)
+                    self._geared_motion(geom, pose, levels, m, *rest)
                 else:
                     self._dyad_motion(geom, pose, levels, m, *rest)
+                    for how in self.reads.get(g.index, ()):
+                        m.rates[how[1]] = _read_rate(m, how)
             levels.append(m)
         return levels
 
@@ -444,15 +573,28 @@ class Program:
             m.w[link] = m.w[known]
             m.V[link] = V + _sigma(j, known) * _relative(geom, pose, levels, j, known, m.w[known], rate)
 
-    def _geared_motion(self, geom, pose, levels, m, given, placements):
+    def _geared_motion(self, geom, pose, levels, m, placements, order):
         s = self.kin.structure
-        rates = {f"q:{j}": r for j, r in given.items()}
+        rates = m.rates
+        for v in order:
+            expr = s.derived[v]
+            if isinstance(expr, CamTie):
+                if v not in pose.laws:
+                    pose.laws[v] = law_at(expr, pose.turns[v], 2)
+                if levels:  # the acceleration: L''·ẋ² + L'·ẍ, ẋ from the velocities
+                    _, d1, d2 = pose.laws[v]
+                    xd = expr.turn.rate(levels[0].rates)
+                    rates[v] = expr.base.rate(rates) + expr.sign * (d2 * xd * xd + d1 * expr.turn.rate(rates))
+                else:
+                    rates[v] = cam_rates(expr, pose.values, rates, law=pose.laws[v])[0]
+            else:
+                rates[v] = expr.rate(rates)
         for link, j, known in placements:
             X = pose.world(geom, known, j.name)
             V = _point(pose, levels, m.w[known], m.V[known], known, X)
             m.w[link] = s.rotations[link].rate(rates)
             if j.kind == "P":
-                rate = s.derived[f"s:{j.name}"].rate(rates)
+                rate = rates[f"s:{j.name}"]
                 m.slide[j.name] = rate
                 V = V + _sigma(j, known) * _relative(geom, pose, levels, j, known, m.w[known], rate)
             m.V[link] = V
@@ -555,6 +697,41 @@ def _relative(geom, pose, levels, j, guide, w, rate):
         return rate * u + ds * 1j * w * u
     omega = levels[0].w[guide]
     return rate * u + 2 * levels[0].slide[j.name] * 1j * omega * u + ds * (1j * w - omega * omega) * u
+
+
+def _read(pose, how, start):
+    """A variable a gear or cam pair reads from a dyad: a slide, or a rotation from its link's (continued)."""
+    if how[0] == "slide":
+        return pose.slides[how[2]]
+    _, var, link, coeff, rest = how
+    return _continued((np.angle(pose.links[link][0]) - rest.value(pose.values)) / coeff, start.get(var, 0.0))
+
+
+def _read_rate(m, how):
+    """The rate (or acceleration) at one level of a variable read by :func:`_read`."""
+    if how[0] == "slide":
+        return m.slide[how[2]]
+    _, var, link, coeff, rest = how
+    return (m.w[link] - rest.rate(m.rates)) / coeff
+
+
+def _continued(angle, start: float):
+    """Angles known to a whole turn made continuous along the last axis, the first next to ``start``.
+
+    Entries that are not finite stay NaN and do not break the path.
+
+    >>> [round(float(x), 6) for x in _continued(np.array([3.0, -3.0, np.nan, 3.0]), 0.0)]
+    [3.0, 3.283185, nan, 3.0]
+    """
+    angle = np.asarray(angle, dtype=float)
+    if angle.ndim == 0:
+        return start + math.remainder(float(angle) - start, 2 * math.pi)
+    head = np.broadcast_to(np.asarray(start, dtype=float), angle.shape[:-1] + (1,))
+    path = np.concatenate((head, angle), axis=-1)
+    finite = np.isfinite(path)
+    last = np.maximum.accumulate(np.where(finite, np.arange(path.shape[-1]), 0), axis=-1)
+    out = np.unwrap(np.take_along_axis(path, last, axis=-1), axis=-1)[..., 1:]
+    return np.where(finite[..., 1:], out, np.nan)
 
 
 def _placements(mech, g, known) -> list:
