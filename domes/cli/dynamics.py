@@ -22,7 +22,7 @@ import numpy as np
 
 from domes.cli.common import progress_printer, write_document
 from domes.cli.kinematics import parse_sweep
-from domes.design.dynamics import inverse_dynamics
+from domes.design.dynamics import PRESSURE_ANGLE, inverse_dynamics
 from domes.design.scriber import EQUATIONS, KINETIC, MAX_POINTS, follow
 from domes.errors import InputError
 from domes.io.mechanisms import is_scriber_task, load_mechanism, load_scriber_task
@@ -52,6 +52,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "speed (default: the file's)")
     p.add_argument("--acceleration", type=float, help="mechanism: the input's acceleration (default: the file's)")
     p.add_argument("--accuracy", choices=sorted(PRESETS), default="default", help="mechanism: the kinematics' preset")
+    p.add_argument("--pressure-angle", type=float, default=math.degrees(PRESSURE_ANGLE), metavar="DEG",
+                   help="mechanism: the gear pairs' pressure angle in degrees (default 20): the tooth force's "
+                   "direction, from the common tangent of the pitch circles")
     p.add_argument("--points", type=int, help=f"scriber: sample points along the contour (default: the file's; at most "
                    f"{MAX_POINTS:,})")
     p.add_argument("--kinetic", choices=KINETIC, default="corrected",
@@ -99,6 +102,8 @@ def _mechanism(args) -> dict:
     for name in ("points",):
         if getattr(args, name) is not None:
             raise InputError(f"--{name} is for a scriber task file; {args.file} is a mechanism")
+    if not 0.0 <= args.pressure_angle < 90.0:
+        raise InputError(f"--pressure-angle: must be at least 0 and below 90 (degrees), got {args.pressure_angle}")
     mech = load_mechanism(args.file)
     if not mech.inputs:
         raise InputError(f"{args.file}: the mechanism has no input")
@@ -121,7 +126,8 @@ def _mechanism(args) -> dict:
     dyn = inverse_dynamics(mech, start, stop, step, joint=joint,
                            speed=None if args.speed is None else scale(args.speed),
                            acceleration=None if args.acceleration is None else scale(args.acceleration),
-                           accuracy=args.accuracy, progress=progress_printer(args.progress))
+                           accuracy=args.accuracy, progress=progress_printer(args.progress),
+                           pressure_angle=math.radians(args.pressure_angle))
     x = np.degrees(dyn.inputs) if angular else dyn.inputs
     unit = "deg" if angular else "length"
     columns = {f"input ({unit})": x}
@@ -134,6 +140,20 @@ def _mechanism(args) -> dict:
         columns[f"reaction:{j}.y"] = v[:, 1]
     for j, v in dyn.moments.items():
         columns[f"moment:{j}"] = v
+    contacts = {}
+    for p, v in dyn.contacts.items():
+        columns[f"contact:{p}"] = v
+        if p in dyn.contact_forces:
+            columns[f"contact:{p}.x"] = dyn.contact_forces[p][:, 0]
+            columns[f"contact:{p}.y"] = dyn.contact_forces[p][:, 1]
+        gear = p in dyn.contact_forces
+        follower = "" if gear else next(c for c in mech.cams if c.name == p).contact(mech).kind
+        finite = np.isfinite(v)
+        k = int(np.nanargmax(np.abs(v))) if finite.any() else None
+        contacts[p] = {"kind": "tooth force" if gear else "torque" if follower == "oscillating" else "force",
+                       "pair": "gear" if gear else f"cam ({follower} follower)",
+                       "peak": math.nan if k is None else float(v[k]),
+                       "at": math.nan if k is None else float(x[k])}
     columns.update({"kinetic energy": dyn.kinetic, "input power": dyn.input_power, "load power": dyn.load_power,
                     "dE/dt": dyn.kinetic_rate, "balance": dyn.balance, "balance/peak": dyn.relative_balance})
     drives = {}
@@ -142,7 +162,8 @@ def _mechanism(args) -> dict:
         drives[j] = {"kind": "torque" if mech.joint(j).kind == "R" else "force", "peak": value,
                      "at": math.degrees(where) if angular else where}
     return {"kind": "mechanism", "file": args.file, "name": mech.name, "message": dyn.message,
-            "status": str(dyn.status), "x": f"input {joint} ({unit})", "drives": drives,
+            "status": str(dyn.status), "x": f"input {joint} ({unit})", "drives": drives, "contacts": contacts,
+            "pressure_angle_deg": args.pressure_angle if dyn.contact_forces else None,
             "max_imbalance": dyn.max_imbalance, "peak_power": dyn.peak_power,
             "columns": {k: np.asarray(v, float).tolist() for k, v in columns.items()},
             "reaction_sizes": {j: np.hypot(v[:, 0], v[:, 1]).tolist() for j, v in dyn.reactions.items()}}
@@ -176,6 +197,7 @@ def _text(out, doc) -> None:
     cols = doc["columns"]
     if doc["kind"] == "mechanism":
         names = [n for n in cols if n.startswith(("input", "time", "drive:"))]
+        names += [f"contact:{p}" for p in doc["contacts"]]
         sizes = doc["reaction_sizes"]
         out.write(f"# {doc['name']}: inverse dynamics over {doc['x']}, "
                   f"{len(cols[names[0]])} steps; forces and torques in the file's units (SI: N, N·m)\n")
@@ -186,6 +208,9 @@ def _text(out, doc) -> None:
             out.write(" " + " ".join(f"{v:14.7g}" for v in row) + "\n")
         for j, d in doc["drives"].items():
             out.write(f"# {j}: peak {d['kind']} {d['peak']:.6g} at {d['at']:.6g}\n")
+        for p, d in doc["contacts"].items():
+            extra = f" (pressure angle {doc['pressure_angle_deg']:g}°)" if d["pair"] == "gear" else ""
+            out.write(f"# {p}: {d['pair']} pair, peak {d['kind']} {d['peak']:.6g} at {d['at']:.6g}{extra}\n")
     else:
         names = ["s", "x", "y", "q1", "q2", "Q1", "Q2", "balance"]
         out.write(f"# {doc['name']}: 2-RPR scriber along its contour at {doc['speed']:g}/s, "

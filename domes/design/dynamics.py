@@ -10,6 +10,18 @@ and the reaction of every joint. The mechanism file's mass model
 (:mod:`domes.model.masses`) supplies masses, inertias, gravity, loads and
 springs.
 
+Gear pairs (:mod:`domes.model.gears`) and cam pairs (:mod:`domes.model.cams`)
+add one unknown each. A gear pair's is the tooth force at the pitch point,
+along the line of action (the common tangent of the pitch circles turned by
+the pressure angle, 20° unless ``pressure_angle`` says otherwise; its
+separating part, ``|F_t|·tan α`` along the line of centres, is carried by
+the gears' pivots or the rack's slide). A cam pair's is the ideal
+constraint force of its law ``s = L(θ)`` (virtual work): ``λ`` along the
+follower's slide (a torque about its pivot, for an oscillating follower) and
+the torque ``−λ·L'(θ)`` on the cam, each with its reaction on the carrier.
+Neither does net work: the pitch point rolls without slip, and the power of
+``λ``, ``λ·(ṡ − L'·Δθ̇)``, vanishes on the law.
+
 Every step reports its **power balance**: the input power plus the power of
 the loads, springs and gravity minus the rate of change of the kinetic
 energy. The reactions do no work only when the velocities satisfy every
@@ -40,10 +52,12 @@ from domes.motion.planar.query import accuracy as preset
 from domes.motion.planar.sweep import sweep
 from domes.results import Progress, Result, Status, Ticker
 
-__all__ = ["Dynamics", "inverse_dynamics", "ANCHOR"]
+__all__ = ["Dynamics", "inverse_dynamics", "ANCHOR", "PRESSURE_ANGLE"]
 
 #: Name of the point added to each moving link to follow its motion (never shown).
 ANCHOR = "@anchor:{}"
+#: The gears' pressure angle when none is given (rad): the standard involute 20° (ISO 53).
+PRESSURE_ANGLE = math.radians(20.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -61,6 +75,17 @@ class Dynamics(Result):
     ``kinetic_rate`` (dE/dt) give ``balance = input_power + load_power −
     kinetic_rate``; :attr:`max_imbalance` is its largest size relative to the
     peak power. ``residuals`` and ``conditions`` are the kinematics' own.
+
+    ``contacts[pair]`` (``(N,)``) for each higher pair: a gear pair's tooth
+    force along the line of action (``|F_t|/cos α``), signed as its tangential
+    part ``F_t``, which pushes the other gear along ``i·(P − O)`` (``P`` the
+    pitch point, ``O`` the first gear's centre; for a rack, the pinion's, and
+    the other is the rack): positive when the first gear drives the other
+    while turning counter-clockwise on the carrier. A cam pair's ``λ``: the force along the
+    P joint's direction on a translating follower, or the counter-clockwise
+    torque on an oscillating one; the cam takes ``−λ·L'(θ)``.
+    ``contact_forces[pair]`` (``(N, 2)``, gear pairs): the tooth force the
+    first gear (the pinion, for a rack) exerts on the other at the pitch point.
     """
 
     mechanism: str
@@ -81,6 +106,9 @@ class Dynamics(Result):
     notes: tuple[str, ...] = ()
     dead_points: tuple = field(default=(), repr=False)
     angular: bool = True
+    contacts: dict = field(default_factory=dict)
+    contact_forces: dict = field(default_factory=dict)
+    pressure_angle: float = PRESSURE_ANGLE
 
     @property
     def balance(self) -> np.ndarray:
@@ -123,6 +151,8 @@ class Dynamics(Result):
         span = (f"input {self.joint} {scale(self.inputs[0]):.6g}{unit} .. {scale(self.inputs[-1]):.6g}{unit}"
                 if self.joint else "prescribed motion")
         drives = "; ".join(f"{j} peak {self.peak(j)[0]:.6g}" for j in self.driving if np.any(np.isfinite(self.driving[j])))
+        drives += "".join(f"; contact {p} peak {_peak(v):.6g}" for p, v in self.contacts.items()
+                          if np.any(np.isfinite(v)))
         text = (f"{self.status}: {self.mechanism}, {span} in {self.inputs.size} steps: {drives}; "
                 f"power balance within {self.max_imbalance:.2g} of the peak power {self.peak_power:.4g}")
         return text + "".join(f"; {n}" for n in self.notes)
@@ -135,12 +165,20 @@ class Dynamics(Result):
                "driving": {j: v.tolist() for j, v in self.driving.items()},
                "reactions": {j: v.tolist() for j, v in self.reactions.items()},
                "moments": {j: v.tolist() for j, v in self.moments.items()},
+               "contacts": {p: v.tolist() for p, v in self.contacts.items()},
+               "contact_forces": {p: v.tolist() for p, v in self.contact_forces.items()},
+               "pressure_angle": self.pressure_angle,
                "kinetic_energy": self.kinetic.tolist(), "input_power": self.input_power.tolist(),
                "load_power": self.load_power.tolist(), "kinetic_rate": self.kinetic_rate.tolist(),
                "balance": self.balance.tolist(), "peak_power": self.peak_power,
                "max_imbalance": self.max_imbalance, "residuals": self.residuals.tolist(),
                "conditions": self.conditions.tolist(), "determinate": self.determinate}
         return out
+
+
+def _peak(values: np.ndarray) -> float:
+    """The value of largest size (NaN steps skipped)."""
+    return float(values[int(np.nanargmax(np.abs(values)))])
 
 
 # -- kinematics of every link ------------------------------------------------------------------
@@ -216,6 +254,10 @@ class _Body:
         r = np.exp(1j * f.rot[link]) * (d - self.anchors[link])
         w, al = f.w[link], f.al[link]
         return f.a[link] + r, f.va[link] + 1j * w * r, f.aa[link] + (1j * al - w * w) * r
+
+    def rotation(self, link):
+        """The link's rotation from its drawn pose (rad)."""
+        return np.zeros(self.n) if link == self.mech.ground else self.f.rot[link]
 
     def turn(self, link):
         """``e^{iφ}`` of the link's rotation from its drawn pose."""
@@ -295,7 +337,8 @@ def _motion_frames(mech, motion, accuracy, progress):
 def inverse_dynamics(mech: Mechanism, start: float | None = None, stop: float | None = None,
                      step: float | None = None, *, joint: str | None = None, speed: float | None = None,
                      acceleration: float | None = None, motion: dict | None = None, time=None,
-                     accuracy=None, progress: Progress | None = None) -> Dynamics:
+                     accuracy=None, progress: Progress | None = None,
+                     pressure_angle: float = PRESSURE_ANGLE) -> Dynamics:
     """Driving forces, joint reactions and the power balance along a sweep or a prescribed motion.
 
     Sweep: the input ``joint`` (default: the first) from ``start`` to
@@ -303,12 +346,22 @@ def inverse_dynamics(mech: Mechanism, start: float | None = None, stop: float | 
     or ``speed``/``acceleration``; other inputs hold their drawn values.
     Motion: ``motion={joint: (values, rates, accelerations)}`` (arrays of one
     length; inputs not given hold their drawn values), optionally with the
-    ``time`` of each step. ``accuracy`` is the kinematics' knob.
+    ``time`` of each step. ``accuracy`` is the kinematics' knob;
+    ``pressure_angle`` (rad, 0 to below π/2) the gear pairs' (for every pair).
+
+    >>> from domes.io.mechanisms import load_mechanism
+    >>> dyn = inverse_dynamics(load_mechanism("examples/mechanisms/planetary.json"), 0.0, 1.0, 0.5)
+    >>> sorted(dyn.contacts), dyn.contact_forces["SP"].shape
+    (['PR', 'SP'], (3, 2))
     """
-    if mech.gears or mech.cams:
-        raise InputError(f"{mech.name}: gear and cam pairs {[g.name for g in mech.gears + mech.cams]}: inverse "
-                         "dynamics does not model their contact forces yet; the force ratios of domes.design.forces "
-                         "(virtual work) do take them")
+    try:
+        alpha = float(pressure_angle)
+    except (TypeError, ValueError):
+        raise InputError(f"pressure_angle: expected an angle in radians, got {pressure_angle!r}") from None
+    if not 0.0 <= alpha < math.pi / 2:
+        raise InputError(f"pressure_angle: must be at least 0 and below 90° (π/2), got {alpha!r} rad "
+                         f"({math.degrees(alpha):.6g}°)" if math.isfinite(alpha) else
+                         f"pressure_angle: must be a finite angle, got {alpha!r}")
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is found in the numbers and reported below
         if motion is not None:
             if start is not None or stop is not None:
@@ -330,7 +383,7 @@ def inverse_dynamics(mech: Mechanism, start: float | None = None, stop: float | 
             if rate.speed and rate.acceleration == 0:
                 t = (frames.inputs - frames.inputs[0]) / rate.speed
         body = _Body(mech, frames, anchors)
-        solved = _solve(mech, body)
+        solved = _solve(mech, body, alpha)
     _overflow(mech, frames, solved, swept, accuracy)
     status = sw.status if sw is not None else Status.COMPLETE
     notes = list(solved.pop("notes"))
@@ -344,7 +397,7 @@ def inverse_dynamics(mech: Mechanism, start: float | None = None, stop: float | 
     angular = swept is None or mech.joint(swept).kind == "R"
     return Dynamics(mech.name, swept, frames.inputs, t, residuals=frames.residuals, conditions=frames.conditions,
                     status=status, notes=tuple(notes), dead_points=tuple(sw.dead_points) if sw is not None else (),
-                    angular=angular, **solved)
+                    angular=angular, pressure_angle=alpha, **solved)
 
 
 def _overflow(mech: Mechanism, frames: _Frames, solved: dict, swept: str | None, accuracy) -> None:
@@ -353,7 +406,7 @@ def _overflow(mech: Mechanism, frames: _Frames, solved: dict, swept: str | None,
     derivatives = preset(accuracy).derivatives
     given = (frames.conditions <= SINGULAR_CONDITION) & (error_bounds(frames.conditions, 2)[2] <= derivatives)
     numbers = [solved["input_power"], solved["load_power"], solved["kinetic_rate"], solved["kinetic"],
-               *solved["driving"].values(), *solved["moments"].values(),
+               *solved["driving"].values(), *solved["moments"].values(), *solved["contacts"].values(),
                *(v[:, i] for v in solved["reactions"].values() for i in (0, 1))]
     lost = given & ~np.all(np.isfinite(np.stack(numbers)), axis=0)
     if not np.any(lost):
@@ -368,8 +421,9 @@ def _overflow(mech: Mechanism, frames: _Frames, solved: dict, swept: str | None,
                          where={"input": q, "step": k})
 
 
-def _solve(mech: Mechanism, body: _Body) -> dict:
-    """Assemble and solve the Newton–Euler equations of every moving link at every step."""
+def _solve(mech: Mechanism, body: _Body, alpha: float = PRESSURE_ANGLE) -> dict:
+    """Assemble and solve the Newton–Euler equations of every moving link at every step (``alpha``: the gears'
+    pressure angle)."""
     n = body.n
     moving = [k for k in mech.links if k != mech.ground]
     row = {k: 3 * i for i, k in enumerate(moving)}
@@ -385,6 +439,7 @@ def _solve(mech: Mechanism, body: _Body) -> dict:
         columns += [("Fx", j.name), ("Fy", j.name)] if j.kind == "R" else [("N", j.name), ("M", j.name)]
     for i in mech.inputs:
         columns.append(("drive", i.joint))
+    columns += [("mesh", g.name) for g in mech.gears] + [("cam", c.name) for c in mech.cams]
     A = np.zeros((n, 3 * len(moving), len(columns)))
     b = np.zeros((n, 3 * len(moving)))
 
@@ -399,8 +454,30 @@ def _solve(mech: Mechanism, body: _Body) -> dict:
         A[:, r + 2, col] += ((X - c).real * F.imag - (X - c).imag * F.real)
 
     def moment(link, col, sign):
+        """Unit-coefficient torque ``sign`` (a number or one per step) on ``link`` into column ``col``."""
         if link != mech.ground:
             A[:, row[link] + 2, col] += sign
+
+    # gear pairs: the pitch point P and the first gear's centre O ride on the carrier; the tangential unit t =
+    # i·(P − O)/|P − O| pushes the second gear; ``apart`` is the separating direction on the second gear
+    meshes = {g.name: g.mesh(mech) for g in mech.gears}
+    pitch = {}
+    for name, m in meshes.items():
+        P = body.point(m.carrier, m.pair.at)[0]
+        r = P - body.point(m.carrier, m.centres[0])[0]
+        r = r / np.abs(r)
+        ring_first = m.kind == "internal" and m.radii[0] > m.radii[1]
+        pitch[name] = (P, 1j * r, -r if ring_first else r)
+    # cam pairs: L'(θ) of the law at the cam's turn on its carrier; a translating follower's slide direction
+    cams = {c.name: c.contact(mech) for c in mech.cams}
+    law_rate, slide_of = {}, {}
+    for name, ct in cams.items():
+        turn = ct.pair.phase + body.rotation(ct.cam) - body.rotation(ct.carrier)
+        law_rate[name] = np.asarray(ct.pair.law.evaluate(turn, 1)[1], float)
+        if ct.kind == "translating":
+            sj = mech.joint(ct.joint)
+            slide_of[name] = (body.turn(sj.links[0]) * complex(math.cos(sj.direction), math.sin(sj.direction)),
+                              body.point(ct.follower, ct.pair.at)[0])
 
     joint_at, slide_dir = {}, {}
     for j in mech.joints:
@@ -410,6 +487,24 @@ def _solve(mech: Mechanism, body: _Body) -> dict:
         if j.kind == "P":
             slide_dir[j.name] = body.turn(first) * complex(math.cos(j.direction), math.sin(j.direction))
     for c, (kind, name) in enumerate(columns):
+        if kind == "mesh":  # the tooth force's tangential part F_t: +t on the second gear, −t on the first
+            m = meshes[name]
+            P, t, _ = pitch[name]
+            force(m.b, c, t, P)
+            force(m.a, c, -t, P)
+            continue
+        if kind == "cam":  # λ on the follower and −λ·L' on the cam; their reactions on the carrier
+            ct = cams[name]
+            if ct.kind == "translating":
+                u, X = slide_of[name]
+                force(ct.follower, c, u, X)
+                force(ct.carrier, c, -u, X)
+            else:
+                moment(ct.follower, c, 1.0)
+                moment(ct.carrier, c, -1.0)
+            moment(ct.cam, c, -law_rate[name])
+            moment(ct.carrier, c, law_rate[name])
+            continue
         j = mech.joint(name)
         first, second = j.links
         X = joint_at[name]
@@ -451,16 +546,20 @@ def _solve(mech: Mechanism, body: _Body) -> dict:
     load_power = np.zeros(n)
     g = complex(*model.gravity)
 
-    def external(link, F, X, V):
-        nonlocal load_power
-        load_power = load_power + (F.real * V.real + F.imag * V.imag)
+    def applied(rhs, link, F, X):
+        """A known force ``F`` at ``X`` on ``link``, moved to the right-hand side ``rhs``."""
         if link == mech.ground:
             return
         r = row[link]
         c = centre[link][0]
-        b[:, r] -= F.real
-        b[:, r + 1] -= F.imag
-        b[:, r + 2] -= (X - c).real * F.imag - (X - c).imag * F.real
+        rhs[:, r] -= F.real
+        rhs[:, r + 1] -= F.imag
+        rhs[:, r + 2] -= (X - c).real * F.imag - (X - c).imag * F.real
+
+    def external(link, F, X, V):
+        nonlocal load_power
+        load_power = load_power + (F.real * V.real + F.imag * V.imag)
+        applied(b, link, F, X)
 
     if g:
         for k in moving:
@@ -494,7 +593,31 @@ def _solve(mech: Mechanism, body: _Body) -> dict:
         external(l1, tension * u, X1, V1)
         external(l2, -tension * u, X2, V2)
 
-    x, determinate = _linear_solve(A, b)
+    # a unit separating pair at each gear pair's pitch point: solved with the same matrix, then scaled by
+    # |F_t|·tan α (it works on the pivots only: no drive and no tooth force changes with it)
+    rhs = [b]
+    for name, m in meshes.items():
+        P, _, apart = pitch[name]
+        sep = np.zeros_like(b)
+        applied(sep, m.b, apart, P)
+        applied(sep, m.a, -apart, P)
+        rhs.append(sep)
+    xs, determinate = _linear_solve(A, np.stack(rhs, axis=2))
+    x = xs[..., 0]
+    tan = math.tan(alpha)
+    tangential = {name: x[:, c].copy() for c, (kind, name) in enumerate(columns) if kind == "mesh"}
+    for k, name in enumerate(meshes, start=1):
+        x = x + (tan * np.abs(tangential[name]))[:, None] * xs[..., k]
+    contacts, contact_forces = {}, {}
+    for name in meshes:
+        _, t, apart = pitch[name]
+        Ft = tangential[name]
+        F = Ft * t + tan * np.abs(Ft) * apart
+        contacts[name] = Ft / math.cos(alpha)
+        contact_forces[name] = np.stack([F.real, F.imag], axis=1)
+    for c, (kind, name) in enumerate(columns):
+        if kind == "cam":
+            contacts[name] = x[:, c]
     driving, reactions, moments = {}, {}, {}
     for c, (kind, name) in enumerate(columns):
         if kind == "Fx":
@@ -515,7 +638,8 @@ def _solve(mech: Mechanism, body: _Body) -> dict:
             rate = body.angular(bb)[0] - body.angular(a)[0]
         input_power = input_power + driving[i.joint] * rate
     notes = [] if determinate else ["statically indeterminate: the reactions shown are the least-norm ones"]
-    return {"driving": driving, "reactions": reactions, "moments": moments, "kinetic": kinetic,
+    return {"driving": driving, "reactions": reactions, "moments": moments, "contacts": contacts,
+            "contact_forces": contact_forces, "kinetic": kinetic,
             "input_power": input_power, "load_power": load_power, "kinetic_rate": kinetic_rate,
             "determinate": determinate, "notes": notes}
 
@@ -529,13 +653,14 @@ def _driven_sides(mech: Mechanism, j) -> tuple[str, str]:
 
 
 def _linear_solve(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, bool]:
-    """Solve every step's system; least squares (least norm) when it is not square or is rank deficient."""
+    """Solve every step's system for each right-hand side ``b[:, :, i]``; least squares (least norm) when it is not
+    square or is rank deficient."""
     n, rows, cols = A.shape
-    out = np.full((n, cols), np.nan)
-    good = np.all(np.isfinite(A), axis=(1, 2)) & np.all(np.isfinite(b), axis=1)
+    out = np.full((n, cols, b.shape[2]), np.nan)
+    good = np.all(np.isfinite(A), axis=(1, 2)) & np.all(np.isfinite(b), axis=(1, 2))
     if rows == cols:
         try:
-            out[good] = np.linalg.solve(A[good], b[good][..., None])[..., 0]
+            out[good] = np.linalg.solve(A[good], b[good])
             return out, True
         except np.linalg.LinAlgError:
             pass

@@ -45,6 +45,33 @@ def test_speed_knob_scales_the_inertia_forces(capsys):
     np.testing.assert_allclose(c - a, 5.0 * (b - a), rtol=1e-9, atol=1e-9)
 
 
+def test_gear_and_cam_contacts_are_reported(capsys, tmp_path):
+    import math
+
+    data = json.loads(open("examples/mechanisms/planetary.json").read())
+    data["loads"] = [{"name": "out", "link": "arm", "torque": 5.0}]
+    (tmp_path / "planetary.json").write_text(json.dumps(data))
+    status, out, _ = run(capsys, str(tmp_path / "planetary.json"), "--sweep", "0:360:30", "--format", "json")
+    doc = json.loads(out)
+    assert status == 0 and doc["max_imbalance"] < 1e-12 and doc["pressure_angle_deg"] == 20.0
+    assert doc["columns"]["drive:O"] == pytest.approx([-5.0 * 20 / 72] * 13, rel=1e-12)     # Willis
+    assert doc["contacts"]["SP"]["kind"] == "tooth force" and doc["contacts"]["SP"]["pair"] == "gear"
+    tangential = 5.0 / (2 * 1.8)                                                            # the planet's free body
+    assert [abs(v) for v in doc["columns"]["contact:SP"]] == pytest.approx([tangential / math.cos(math.radians(20))] * 13)
+    status, out, _ = run(capsys, str(tmp_path / "planetary.json"), "--sweep", "0:360:30", "--pressure-angle", "0")
+    assert status == 0 and "contact:SP" in out and "# SP: gear pair, peak tooth force -1.38889" in out
+    status, out, _ = run(capsys, str(tmp_path / "planetary.json"), "--sweep", "0:360:30", "--format", "csv")
+    assert "contact:SP,contact:SP.x,contact:SP.y,contact:PR" in out.splitlines()[0]
+    cam = json.loads(open("examples/mechanisms/cam-rocker.json").read())
+    cam["loads"] = [{"name": "weight", "link": "follower", "force": [0.0, -20.0], "at": [0.0, 2.0]}]
+    (tmp_path / "cam.json").write_text(json.dumps(cam))
+    status, out, _ = run(capsys, str(tmp_path / "cam.json"), "--sweep", "0:360:30", "--format", "json")
+    doc = json.loads(out)
+    assert status == 0 and doc["contacts"]["K"] == {"kind": "force", "pair": "cam (translating follower)",
+                                                    "peak": pytest.approx(20.0), "at": 0.0}
+    assert "pressure_angle_deg" in doc and doc["pressure_angle_deg"] is None
+
+
 def test_scriber_text_and_json(capsys):
     status, out, _ = run(capsys, SCRIBER, "--points", "400")
     assert status == 0 and "junction 1 at s = 0.1: corner 0°" in out and "lines: Q in" in out
@@ -83,6 +110,7 @@ def test_overflowing_forces_exit_2_with_the_reason(capsys):
     ([ENGINE, "--sweep", "0:360:0.00001"], "at most 1,000,000"),
     ([ENGINE, "--speed", "nan"], "--speed: must be a finite number"),
     ([ENGINE, "--input", "B"], "not a driven joint"),
+    ([ENGINE, "--pressure-angle", "90"], "--pressure-angle: must be at least 0 and below 90"),
 ])
 def test_mistakes_are_named(capsys, words, message):
     status, _, err = run(capsys, *words)

@@ -270,9 +270,19 @@ def test_file_errors_name_the_field():
         Mechanism.from_dict(data, "t.json")
 
 
-def test_inverse_dynamics_refuses_gears_plainly():
-    with pytest.raises(InputError, match="does not model their contact forces"):
-        inverse_dynamics(train([20, 40]), 0.0, 1.0, 0.1)
+def test_inverse_dynamics_carries_the_load_through_a_train():
+    """A load torque T on the last gear of a three-gear train needs −T·z_0/z_2 at the input (virtual work; two
+    external meshes: the last gear turns with the first, the idler drops out); the idler's tooth forces are
+    equal (T/r_2 tangential each). Closed forms in tests/design/test_dynamics_contacts.py."""
+    import dataclasses
+
+    from domes.model.masses import Load, MassModel
+    m = train([20, 30, 50])
+    m = dataclasses.replace(m, masses=MassModel(loads=(Load("out", "g2", torque=4.0),)))
+    dyn = inverse_dynamics(m, 0.0, 1.0, 0.25, speed=0.0, acceleration=0.0)
+    assert np.allclose(dyn.driving["J0"], -4.0 * 20 / 50, rtol=1e-12)
+    assert np.allclose(np.abs(dyn.contacts["M1"]), np.abs(dyn.contacts["M2"]), rtol=1e-12)
+    assert np.allclose(np.abs(dyn.contacts["M2"]) * math.cos(math.radians(20)), 4.0 / (MODULE * 50 / 2), rtol=1e-12)
 
 
 def test_a_labelled_chain_with_a_gear_pair_is_dimensioned():
