@@ -5,12 +5,16 @@ properties on its model (the kinematics kernel's continuation sweep for a
 mechanism file, the closed forms of :mod:`domes.motion.geneva` and
 :mod:`domes.model.laws` otherwise); :func:`propose` looks entries up by the
 motion they convert and keeps those whose measured properties meet the
-requirements, each with the reason it was kept or left out.
+requirements, each with the reason it was kept or left out, in the order of
+the §6-1 heuristic for the function asked or implied (a dwell: an exact law).
 
->>> from domes.io.catalogue import load_catalogue
+>>> from domes.io.catalogue import load_catalogue, load_heuristics
 >>> found = propose(load_catalogue(), "rotation -> intermittent rotation", ["dwell >= 250"])
 >>> [(p.entry.name, p.kept) for p in found]
-[('Geneva wheel, 4 slots', True), ('Geneva wheel, 6 slots', False)]
+[('Geneva wheel, 4 slots', True), ('Geneva wheel, 6 slots', False), ('ratchet, 24 teeth', False)]
+>>> found = propose(load_catalogue(), "rotation -> reciprocation", [], "exact", load_heuristics())
+>>> [p.entry.family for p in found][:2], found[0].advice.split(":")[0]
+(['cam', 'linkage'], 'exact')
 """
 
 from __future__ import annotations
@@ -21,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from domes.errors import InputError
-from domes.knowledge.catalogue import Entry, motion_pair, requirement
+from domes.knowledge.catalogue import Entry, choose, motion_pair, requirement
 from domes.model.laws import Motion
 from domes.motion.geneva import Geneva
 from domes.motion.planar.query import Kinematics
@@ -127,11 +131,7 @@ def _time_ratio(entry, spec):
 
 
 def _peak(th, y) -> float:
-    k = int(np.argmax(y))
-    k = min(max(k, 1), len(y) - 2)
-    y0, y1, y2 = y[k - 1], y[k], y[k + 1]
-    h = th[1] - th[0]
-    return float(th[k] + 0.5 * h * (y0 - y2) / (y0 - 2 * y1 + y2))
+    return _vertex(th, y)[0]
 
 
 def _straight(entry, spec):
@@ -199,6 +199,63 @@ def _intermittent(entry, spec):
             "peak speed ratio": Measured(float(peak), "", "largest output speed per input speed (sampled)")}
 
 
+def _advantage(entry, spec):
+    out, rng = spec["output"], spec.get("range_deg")
+    if rng is None:
+        raise InputError(f"{entry.name}: a mechanical advantage is read at the end of range_deg = [START, END]")
+    sw = _sweep(entry, [out], rng, step_deg=0.1, order=1)
+    rate = np.abs(sw.column(out + "'")) / entry.mechanism.inputs[0].speed
+    if not rate[-1] > 1e-9 * np.max(rate):
+        raise InputError(f"{entry.name}: the output is at rest at {math.degrees(sw.inputs[-1]):g}°, the dead centre "
+                         "itself (an unbounded advantage): end range_deg before it")
+    unit = "" if out.startswith("angle:") else " per length"
+    return {"mechanical advantage": Measured(float(1 / rate[-1]), unit, "input rate over output rate at the range's "
+                                             "end: by virtual work, the output's force per input torque"),
+            "advantage growth": Measured(float(rate[0] / rate[-1]), "", "the advantage at the range's end over that "
+                                         "at its start"),
+            "stroke": Measured(_range(sw.column(out), _unit(out)), _unit(out), "range of the output over the range")}
+
+
+def _ratchet(entry, spec):
+    """A pawl on the rocker (``output``) drives a wheel of ``teeth`` one way (the model: docs/catalogue.md)."""
+    teeth, out = entry.parameters.get("teeth"), spec["output"]
+    if isinstance(teeth, bool) or not isinstance(teeth, int) or teeth < 1:
+        raise InputError(f"{entry.name}: a ratchet needs parameters.teeth, a whole number >= 1, got {teeth!r}")
+    if not out.startswith("angle:"):
+        raise InputError(f"{entry.name}: a ratchet's output is the pawl carrier's angle (angle:LINK), got {out!r}")
+    sw = _sweep(entry, [out], step_deg=1.0 / PER_DEGREE)
+    th, psi = sw.inputs, sw.column(out)
+    (t_hi, hi), (t_lo, lo) = _vertex(th, psi), _vertex(th, -psi)
+    swing, pitch = hi + lo, 2 * math.pi / teeth
+    k = math.floor(swing / pitch * (1 + 1e-12))
+    if k < 1:
+        raise InputError(f"{entry.name}: the rocker swings {math.degrees(swing):.6g}°, less than a tooth's pitch "
+                         f"{math.degrees(pitch):.6g}°: the pawl never moves the wheel")
+    t_hi += 2 * math.pi * math.ceil((t_lo - t_hi) / (2 * math.pi))         # the forward stroke runs t_lo -> t_hi
+    fwd = _sweep(entry, [out], [math.degrees(t_lo), math.degrees(t_hi)], step_deg=1.0 / PER_DEGREE, order=1)
+    t, y, dy = fwd.inputs, fwd.column(out), fwd.column(out + "'") / entry.mechanism.inputs[0].speed
+    target = hi - k * pitch
+    j = int(np.argmin(np.abs(y - target)))
+    t_on = float(t[j] + (target - y[j]) / dy[j])                            # a Newton step from the nearest sample
+    return {"index": Measured(math.degrees(k * pitch), "°", f"whole teeth per input turn: floor(swing / pitch) = {k}"
+                              f" of {teeth}"),
+            "dwell": Measured(360.0 - math.degrees(t_hi - t_on), "°", "input angle with the wheel at rest: all but "
+                              "the end of the forward stroke, the pawl engaged (k pitches before its extreme)"),
+            "swing": Measured(math.degrees(swing), "°", "the rocker's range (extremes by a parabola through the "
+                              "sampled peak, 0.01° steps)"),
+            "lost motion": Measured(math.degrees(swing - k * pitch), "°", "the rocker's turn before the pawl engages"),
+            "peak speed ratio": Measured(float(np.max(np.where(t >= t_on, np.abs(dy), 0.0))), "",
+                                         "largest wheel speed per input speed while engaged (sampled)")}
+
+
+def _vertex(th, y) -> tuple[float, float]:
+    """The input and value of the peak of sampled ``y``, by a parabola through the largest sample and its neighbours."""
+    k = min(max(int(np.argmax(y)), 1), len(y) - 2)
+    y0, y1, y2 = y[k - 1], y[k], y[k + 1]
+    d = (y0 - y2) / (y0 - 2 * y1 + y2)
+    return float(th[k] + 0.5 * (th[1] - th[0]) * d), float(y1 - 0.125 * (y0 - y2) * d)
+
+
 def _follower(entry, spec):
     segs = entry.parameters.get("segments")
     if not isinstance(segs, list):
@@ -211,7 +268,8 @@ def _follower(entry, spec):
 
 
 _KINDS = {"ratio": _ratio, "stroke": _stroke, "harmonic": _harmonic, "tangent": _tangent, "time ratio": _time_ratio,
-          "straight line": _straight, "intermittent": _intermittent, "follower": _follower}
+          "straight line": _straight, "intermittent": _intermittent, "follower": _follower,
+          "mechanical advantage": _advantage, "ratchet": _ratchet}
 
 
 @dataclass(frozen=True)
@@ -222,6 +280,7 @@ class Proposal:
     properties: dict
     kept: bool
     reasons: tuple[str, ...]
+    advice: str = ""
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,6 +290,7 @@ class Proposals(Listing):
     motion: tuple[str, str]
     requirements: tuple
     proposals: tuple[Proposal, ...]
+    heuristic: object = None
     items_field = "proposals"
 
     @property
@@ -242,14 +302,22 @@ class Proposals(Listing):
         kept = sum(p.kept for p in self.proposals)
         need = "; ".join(map(str, self.requirements)) or "no requirement"
         what = "every motion" if self.motion == ("any", "any") else f"{self.motion[0]} → {self.motion[1]}"
-        return f"{self.status}: {what}: {len(self.proposals)} catalogue mechanism(s), {kept} meeting {need}"
+        order = f"; ordered for the function {self.heuristic.function!r} ({self.heuristic.source})" \
+            if self.heuristic is not None else ""
+        return f"{self.status}: {what}: {len(self.proposals)} catalogue mechanism(s), {kept} meeting {need}{order}"
 
 
-def propose(entries, motion=None, requirements=()) -> Proposals:
+def propose(entries, motion=None, requirements=(), function=None, heuristics=()) -> Proposals:
     """The entries converting ``motion`` (``"rotation -> straight line"``; None: all), measured and checked
-    against ``requirements`` (texts or :class:`~domes.knowledge.catalogue.Requirement`)."""
+    against ``requirements`` (texts or :class:`~domes.knowledge.catalogue.Requirement`); those kept first, in the
+    order of the heuristic of ``heuristics`` for ``function`` (None: the one a requirement implies), each with
+    its advice."""
     pair = motion_pair(motion) if isinstance(motion, str) else (tuple(motion) if motion else ("any", "any"))
     reqs = tuple(requirement(r) if isinstance(r, str) else r for r in requirements)
+    rule = choose(heuristics, function, pair, reqs)
+    if function is not None and rule is None:
+        raise InputError(f"no heuristic for the function {function!r} with output {pair[1]!r} in the knowledge's "
+                         "heuristics.toml")
     out = []
     for e in entries:
         if motion is not None and e.motion != pair:
@@ -266,6 +334,6 @@ def propose(entries, motion=None, requirements=()) -> Proposals:
                 reasons.append(f"{r}: has {props[r.name]}")
             else:
                 reasons.append(f"{r}: has {props[r.name]}")
-        out.append(Proposal(e, props, kept, tuple(reasons)))
-    out.sort(key=lambda p: not p.kept)
-    return Proposals(pair, reqs, tuple(out))
+        out.append(Proposal(e, props, kept, tuple(reasons), rule.advice(e.family) if rule else ""))
+    out.sort(key=lambda p: (not p.kept, rule.rank(p.entry.family) if rule else 0))
+    return Proposals(pair, reqs, tuple(out), rule)

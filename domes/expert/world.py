@@ -24,7 +24,7 @@ from domes.expert.paths import coupler_path_text
 from domes.expert.reasoner import recognise
 from domes.expert.report import report_folder, write_report
 from domes.expert.run import DesignRun, design, scene_roles
-from domes.io.catalogue import load_catalogue
+from domes.io.catalogue import load_catalogue, load_heuristics
 from domes.io.scenes import load_scene, scene_names
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
@@ -162,14 +162,17 @@ class World:
 
     def propose_from_catalogue(self, motion, requirements) -> None:
         """The catalogue's mechanisms for ``motion`` (seed 002 §5-1, the second class of problems), measured and
-        checked against ``requirements``, said with the reasons; type synthesis follows for new structures."""
-        found = propose(load_catalogue(), motion, requirements)
+        checked against ``requirements``, ordered by the §6-1 heuristic they imply (a dwell: an exact law), said
+        with the reasons; type synthesis follows for new structures."""
+        found = propose(load_catalogue(), motion, requirements, heuristics=load_heuristics())
         self.catalogue = found
         self.say(f"Catalogue: {found.message}")
         for p in found:
             props = "; ".join(f"{name} {value}" for name, value in p.properties.items())
             why = f" ({'; '.join(p.reasons)})" if p.reasons else ""
             self.say(f"  {'proposed' if p.kept else 'left out'}: {p.entry.name}: {props}{why}")
+            if p.advice:
+                self.say(f"    why here: {p.advice}")
         if not found.proposals:
             self.say("  (no catalogue mechanism converts this motion: type synthesis below looks for new ones)")
         else:

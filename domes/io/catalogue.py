@@ -1,10 +1,14 @@
-"""The catalogue file: ``catalogue.toml`` of the knowledge folder and the mechanism files of ``catalogue/``.
+"""The catalogue files: ``catalogue.toml`` and ``heuristics.toml`` of the knowledge folder, the mechanism files of ``catalogue/``.
 
 Format in ``docs/catalogue.md``; every error names the file and the line.
 
 >>> entries = load_catalogue()
 >>> sorted({e.motion[1] for e in entries})[:2]
 ['intermittent rotation', 'oscillation']
+>>> sorted({e.family for e in entries})
+['cam', 'gears', 'intermittent', 'linkage']
+>>> [h.function for h in load_heuristics()][:2]
+['exact', 'approximate']
 """
 
 from __future__ import annotations
@@ -15,9 +19,10 @@ from domes.errors import DomesError, InputError
 from domes.io.mechanisms import load_mechanism
 from domes.io.resources import knowledge_dir
 from domes.io.tomlsource import TomlSource
-from domes.knowledge.catalogue import Entry
+from domes.knowledge.catalogue import Entry, Heuristic
 
-_KEYS = {"name", "motion", "model", "measure", "source", "description", "parameters"}
+_KEYS = {"name", "motion", "model", "measure", "source", "description", "parameters", "family"}
+_HEURISTIC_KEYS = {"function", "prefer", "reason", "source", "implied_by", "outputs"}
 
 
 def load_catalogue(folder: str | Path | None = None) -> list[Entry]:
@@ -63,7 +68,49 @@ def load_catalogue(folder: str | Path | None = None) -> list[Entry]:
             raise src.error(f"{name}: 'motion' must be [input, output]", line)
         try:
             out.append(Entry(name, tuple(motion), model, dict(raw["measure"]), str(raw.get("source", "")),
-                             str(raw.get("description", "")), mechanism, dict(raw.get("parameters", {}))))
+                             str(raw.get("description", "")), mechanism, dict(raw.get("parameters", {})),
+                             raw.get("family", _family(model, mechanism))))
+        except DomesError as exc:
+            raise InputError(f"{path}:{line}: {exc}") from None
+    return out
+
+
+def _family(model: str, mechanism) -> str:
+    """An entry's family when its table gives none: a cam or Geneva model's, gears when its mechanism meshes."""
+    if model != "mechanism":
+        return {"cam": "cam", "geneva": "intermittent"}[model]
+    return "gears" if mechanism.gears else "cam" if mechanism.cams else "linkage"
+
+
+def load_heuristics(folder: str | Path | None = None) -> list[Heuristic]:
+    """The §6-1 heuristics of ``heuristics.toml`` in the knowledge folder (none when the folder has no such file)."""
+    path = knowledge_dir(folder) / "heuristics.toml"
+    if not path.is_file():
+        return []
+    src = TomlSource.read(path)
+    items = src.data.get("heuristic", [])
+    unknown = set(src.data) - {"heuristic"}
+    if unknown or not isinstance(items, list):
+        raise src.error("only [[heuristic]] tables", src.line_of(sorted(unknown)[0]) if unknown else None)
+    out = []
+    for i, raw in enumerate(items):
+        line = src.table_line("heuristic", i)
+        if not isinstance(raw, dict):
+            raise src.error("a [[heuristic]] must be a table", line)
+        extra = set(raw) - _HEURISTIC_KEYS
+        if extra:
+            raise src.error(f"unknown key(s) {', '.join(sorted(extra))} (known: {', '.join(sorted(_HEURISTIC_KEYS))})",
+                            line)
+        for key in ("function", "prefer", "reason"):
+            if key not in raw:
+                raise src.error(f"[[heuristic]] {i + 1}: '{key}' is missing", line)
+        lists = {k: raw.get(k, []) for k in ("prefer", "implied_by", "outputs")}
+        for key, value in lists.items():
+            if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+                raise src.error(f"[[heuristic]] {raw['function']!r}: '{key}' must be a list of texts", line)
+        try:
+            out.append(Heuristic(str(raw["function"]), tuple(lists["prefer"]), str(raw["reason"]),
+                                 str(raw.get("source", "")), tuple(lists["implied_by"]), tuple(lists["outputs"])))
         except DomesError as exc:
             raise InputError(f"{path}:{line}: {exc}") from None
     return out

@@ -348,7 +348,9 @@ def test_a_problem_of_the_second_class_gets_the_catalogue_then_type_synthesis(ca
     regenerated with a cam pair and a spring (the divergence stages of §3-3-II in the cam-linkage scene)."""
     outcome, said = run(casebase, INDEXING)
     assert asked(outcome)[:4] == ["class", "function", "function_requirements", "outputs"]
-    assert "Catalogue: complete: rotation → intermittent rotation: 2 catalogue mechanism(s), 2 meeting dwell >= 90" in said
+    assert "Catalogue: complete: rotation → intermittent rotation: 3 catalogue mechanism(s), 3 meeting dwell >= 90; " \
+        "ordered for the function 'exact' (seed 002 §6-1)" in said
+    assert "    why here: exact: intermittent is choice 2 of cam, intermittent" in said
     assert "proposed: Geneva wheel, 4 slots: index 90°; dwell 270°" in said
     assert "(dwell >= 90: has 240°)" in said
     # regenerated candidates with a cam pair (C) on the driver and a return spring (S): the cam-linkage scene

@@ -3,9 +3,12 @@
 Each entry's claimed property is measured on its model and checked here by an
 independent closed form: the four-bars' coupler points by circle
 intersection with numpy, the quick return's time ratio from its geometry,
-the Geneva wheel from the pin's position in the slot.
+the Geneva wheel from the pin's position in the slot, the toggle press from
+the slider-crank's velocity ratio, the ratchet from the crank-rocker's
+Grashof extreme positions and a tooth-by-tooth simulation of the pawl.
 """
 
+import dataclasses
 import json
 import math
 import shutil
@@ -168,16 +171,99 @@ def test_geneva_index_and_dwell_measured(slots):
     assert got["peak speed ratio"].value == pytest.approx(lam / (1 - lam), rel=1e-6)
 
 
+def slider_crank_rate(crank, rod, theta):
+    """dx/dθ of an in-line slider-crank, x = r cos θ + sqrt(l² − r² sin² θ) (crank r, rod l)."""
+    root = math.sqrt(rod ** 2 - (crank * math.sin(theta)) ** 2)
+    return -crank * math.sin(theta) - crank ** 2 * math.sin(theta) * math.cos(theta) / root
+
+
+def test_toggle_press_advantage_against_the_slider_crank_velocity_ratio():
+    # The knee lever is an in-line slider-crank driven on its crank (lever 1, link 1); by virtual work the ram's
+    # force per lever torque is dθ/dx = 1 / |dx/dθ|, here 1 / (2 sin θ): unbounded as lever and link line up.
+    entry = CATALOGUE["toggle press"]
+    got = measure(entry)
+    end, start = math.radians(1), math.radians(40)
+    assert got["mechanical advantage"].value == pytest.approx(1 / abs(slider_crank_rate(1, 1, end)), rel=1e-9)
+    assert got["advantage growth"].value == pytest.approx(
+        slider_crank_rate(1, 1, start) / slider_crank_rate(1, 1, end), rel=1e-9)
+    assert got["stroke"].value == pytest.approx(2 * math.cos(end) - 2 * math.cos(start), rel=1e-9)
+    previous = 0.0
+    for last in (1.0, 0.1, 0.01, 0.001):                     # towards the toggle: ten times the advantage each time
+        near = dataclasses.replace(entry, measure={**entry.measure, "range_deg": [40, last]})
+        ma = measure(near)["mechanical advantage"].value
+        assert ma == pytest.approx(1 / (2 * math.sin(math.radians(last))), rel=1e-9)
+        assert ma > 9.9 * previous
+        previous = ma
+    assert previous > 2.8e4
+    at_toggle = dataclasses.replace(entry, measure={**entry.measure, "range_deg": [40, 0]})
+    with pytest.raises(InputError, match="toggle press: the output is at rest at 0°, the dead centre"):
+        measure(at_toggle)
+
+
+def crank_rocker_extremes(a, b, c, d):
+    """The rocker's extreme angles (from the frame line) and the crank angles there, crank pivot (0, 0), rocker pivot
+    (d, 0), rocker pin above the frame: crank and coupler in line, the pin at a + b (extended) or b − a (folded)."""
+    out = []
+    for reach, turn in ((a + b, 0.0), (b - a, math.pi)):
+        x = (reach ** 2 - c ** 2 + d ** 2) / (2 * d)           # the pin on circles about both pivots
+        pin = (x, math.sqrt(reach ** 2 - x ** 2))
+        out.append((math.atan2(pin[1], pin[0] - d), (math.atan2(pin[1], pin[0]) + turn) % (2 * math.pi)))
+    return out                                               # [(ψ, θ) extended, (ψ, θ) folded]
+
+
+def pawl_advances(low, high, pitch, phase, cycles):
+    """The wheel's turn each cycle of a pawl swinging between ``low`` and ``high``: back, it drops behind a tooth;
+    forward, it meets the first tooth face ahead of ``low`` and pushes it to ``high`` (faces at phase + j·pitch)."""
+    advances = []
+    for _ in range(cycles):
+        face = phase + math.ceil((low - phase) / pitch) * pitch
+        advances.append(high - face if face <= high else 0.0)
+        phase = (phase + advances[-1]) % pitch
+    return advances
+
+
+def test_ratchet_against_the_grashof_extremes_and_the_pawl_tooth_by_tooth():
+    a, b, c, d, teeth = 1.0, 3.0, 2.5, 3.0, 24                # ratchet-rocker.json and the entry's teeth
+    (psi_ext, th_ext), (psi_fold, th_fold) = crank_rocker_extremes(a, b, c, d)
+    swing, pitch = psi_fold - psi_ext, 2 * math.pi / teeth   # the forward stroke: crank from th_ext to th_fold
+    advances = pawl_advances(psi_ext, psi_fold, pitch, phase=0.123, cycles=4)
+    assert advances[1:] == pytest.approx([3 * pitch] * 3, abs=1e-12)   # steady from the second cycle: 3 teeth
+    # the pawl engages 3 pitches before the folded extreme: the crank angle there, on the forward stroke
+    psi_on = psi_fold - 3 * pitch
+    pin = (d + c * math.cos(psi_on), c * math.sin(psi_on))
+    phi, r = math.atan2(pin[1], pin[0]), math.hypot(*pin)
+    forward = (th_fold - th_ext) % (2 * math.pi)
+    cands = [(phi + s * math.acos((a * a + r * r - b * b) / (2 * a * r))) for s in (1, -1)]
+    th_on = next(t for t in cands if 0 < (t - th_ext) % (2 * math.pi) < forward)
+    driven = (th_fold - th_on) % (2 * math.pi)
+    got = measure(CATALOGUE["ratchet, 24 teeth"])
+    assert got["index"].value == pytest.approx(45.0, abs=1e-12)
+    assert got["swing"].value == pytest.approx(math.degrees(swing), abs=1e-7)
+    assert got["lost motion"].value == pytest.approx(math.degrees(swing) - 45, abs=1e-7)
+    assert got["dwell"].value == pytest.approx(360 - math.degrees(driven), abs=1e-6)
+    assert 90 < got["dwell"].value < 250                        # kept for dwell >= 90, left out for >= 250
+
+
+def test_ratchet_parameters_are_checked():
+    entry = CATALOGUE["ratchet, 24 teeth"]
+    coarse = dataclasses.replace(entry, parameters={"teeth": 6})           # 60° pitch: more than the 51.5° swing
+    with pytest.raises(InputError, match="swings 51.4564°, less than a tooth's pitch 60°"):
+        measure(coarse)
+    with pytest.raises(InputError, match="parameters.teeth, a whole number >= 1, got 'many'"):
+        measure(dataclasses.replace(entry, parameters={"teeth": "many"}))
+
+
 def test_cam_dwells_measured_to_the_threshold():
     got = measure(CATALOGUE["dwell-rise-dwell-return cam"])
     assert got["dwell"].value == pytest.approx(180, abs=0.01) and got["stroke"].value == pytest.approx(1.0)
 
 
 def test_a_problem_of_the_second_class_proposes_the_intermittent_mechanisms():
-    """"rotation in, intermittent rotation out, dwell >= 90°" (issue 26's acceptance): both Geneva wheels."""
+    """"rotation in, intermittent rotation out, dwell >= 90°" (issue 26's acceptance): both Geneva wheels and the
+    ratchet."""
     found = propose(load_catalogue(), "rotation -> intermittent rotation", ["dwell >= 90°"])
     assert found.success and [p.entry.name for p in found if p.kept] == ["Geneva wheel, 4 slots",
-                                                                        "Geneva wheel, 6 slots"]
+                                                                        "Geneva wheel, 6 slots", "ratchet, 24 teeth"]
     assert all("dwell >= 90: has" in p.reasons[0] for p in found)
     strict = propose(load_catalogue(), "rotation -> intermittent rotation", ["dwell >= 260", "index = 90"])
     assert [p.entry.name for p in strict if p.kept] == ["Geneva wheel, 4 slots"]
