@@ -6,11 +6,13 @@ import argparse
 import json
 import os
 import sys
+import textwrap
 
 from domes.cli.common import available_memory, confirm, parallel_options, progress_printer
 from domes.errors import InputError
 from domes.execution import SCHEDULER_VARIABLE, InProcess, executor
 from domes.io.jobs import JobFolder
+from domes.model.active import DOF_TYPES, ActiveSets, active_sets
 from domes.model.chain import Chain
 from domes.model.mobility import chain_joints
 from domes.typesynth.atlas import (
@@ -50,6 +52,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="clamping chains (seed 002, §3-3-I (4), Fig. 3-23): admit immobile (rigid or over-constrained) "
                    "sub-chains and any DOF, W <= 0 included; every simple graph of the size, each link with 2+ joints")
     p.add_argument("--count", action="store_true", help="print only the number of chains")
+    p.add_argument("--active", action="store_true",
+                   help="with each chain, its sets of F joints (up to symmetry) that can be active pairs together "
+                   "and the DOF type each gives: full, partial or fractionated (seed 002, §3-2-I.5); text and json")
     p.add_argument("--format", choices=("text", "graph6", "json", "html"), default="text", help="html: an atlas page with a drawing of every chain")
     p.add_argument(
         "--isomorphism",
@@ -73,8 +78,9 @@ def register(sub: argparse._SubParsersAction) -> None:
         "chain",
         help="structural properties of given chains (graph6), degenerate ones included",
         description="Properties of one or more chains given as graph6 strings: loops, DOF, link "
-        "assortment, contracted graph, DOF type, automorphisms and link orbits, and for a "
-        "degenerate chain the rigid sub-chain that makes it so.",
+        "assortment, contracted graph, DOF type, automorphisms and link orbits, for a "
+        "degenerate chain the rigid sub-chain that makes it so, and for a chain of DOF F >= 1 its sets of F "
+        "joints that can be active pairs together, with the DOF type each gives (seed 002, §3-2-I.5).",
     )
     q.add_argument("graph6", nargs="+", help="chains in graph6 format ('-' reads them from stdin, one per line)")
     q.add_argument("--format", choices=("text", "json"), default="text")
@@ -114,7 +120,25 @@ def _text_line(index: int, chain: Chain) -> str:
     return f"{index:5d}  [{assortment}]  |Aut|={chain.automorphisms.order:<3d} {chain.dof_type:<12s} {joints}{mark}"
 
 
+def _check_active(args: argparse.Namespace) -> None:
+    """--active is for the text and json listings of mobile chains."""
+    if not args.active:
+        return
+    clash = ("--clamping" if args.clamping else "--count" if args.count else "--out" if args.out is not None
+             else f"--format {args.format}" if args.format in ("graph6", "html") else None)
+    if clash:
+        raise InputError(f"--active adds the active pairs to the text and json listings; {clash} has no room for "
+                         "them: leave one of the two out")
+    if args.dof < 1:
+        raise InputError(f"--active needs chains of DOF 1 or more (active pairs drive a chain); got --dof {args.dof}")
+
+
+def _active_text(found: ActiveSets) -> str:
+    return "  " + found.summary()
+
+
 def run_chains(args: argparse.Namespace) -> int:
+    _check_active(args)
     if args.dof < 0 and not args.clamping:
         raise InputError(f"--dof must be >= 0 for chains without immobile sub-chains, got {args.dof}; chains of "
                          "DOF below 0 always hold one: add --clamping to list them (the chains of clamps, W <= 0)")
@@ -192,7 +216,11 @@ def _write_atlas(args: argparse.Namespace, atlas: list[Chain], links: int, joint
     elif args.format == "json":
         records = []
         for index, chain in enumerate(atlas, 1):
-            records.append({"id": index, **chain.to_dict()})
+            record = {"id": index, **chain.to_dict()}
+            if args.active:
+                found = active_sets(chain)
+                record["active_sets"] = {"classes": found.counts(), "labelled": found.counts(labelled=True)}
+            records.append(record)
         json.dump(
             {
                 "links": links,
@@ -217,8 +245,13 @@ def _write_atlas(args: argparse.Namespace, atlas: list[Chain], links: int, joint
             what = f"clamping chains ({sum(c.is_degenerate for c in atlas)} with an immobile sub-chain)"
         out.write(f"# {len(atlas)} {what}: {links} links, {joints} joints, {loops} loops, DOF {args.dof} ({kind})\n")
         out.write("#   id  [link assortment d^n_d]  |Aut|  DOF type   joints\n")
+        if args.active:
+            out.write(f"#   active a/s: of the s sets of {args.dof} joints (up to symmetry), a can be active pairs "
+                      "together: full, partial, fractionated DOF (seed 002, §3-2-I.5)\n")
         for index, chain in enumerate(atlas, 1):
             line = _text_line(index, chain)
+            if args.active:
+                line += _active_text(active_sets(chain))
             if args.clamping and chain.is_degenerate:
                 line += f"  immobile sub-chain {{{', '.join(map(str, chain.rigid_subchain))}}}"
             elif args.dof == 0:
@@ -231,7 +264,11 @@ def run_chain(args: argparse.Namespace) -> int:
     texts = [line for g in args.graph6 for line in (sys.stdin.read().split() if g == "-" else [g])]
     chains = [Chain.from_graph6(t) for t in texts]
     if args.format == "json":
-        json.dump([c.to_dict() for c in chains], sys.stdout, indent=1)
+        records = []
+        for chain in chains:
+            found, _ = _active_or_why(chain)
+            records.append({**chain.to_dict(), "active_sets": found.to_dict() if found else None})
+        json.dump(records, sys.stdout, indent=1)
         sys.stdout.write("\n")
         return 0
     for text, chain in zip(texts, chains):
@@ -243,4 +280,33 @@ def run_chain(args: argparse.Namespace) -> int:
             print(f"  DEGENERATE: links {d['rigid_subchain']} form a rigid or over-constrained sub-chain")
         if "structural_number" in d:
             print(f"  structural characteristic number K = {d['structural_number']}")
+        found, why = _active_or_why(chain)
+        if found is not None:
+            _print_active(found)
+        elif chain.dof >= 1:
+            print(f"  active pairs: not tabulated ({why})")
     return 0
+
+
+def _active_or_why(chain: Chain) -> tuple[ActiveSets | None, str]:
+    """The chain's active sets, or None and why there are none."""
+    if chain.dof < 1:
+        return None, f"DOF {chain.dof}"
+    try:
+        return active_sets(chain), ""
+    except InputError as exc:
+        return None, str(exc)
+
+
+def _print_active(found: ActiveSets) -> None:
+    """The counts, then the classes of joint sets by DOF type (each with how many sets it holds)."""
+    c, labelled = found.counts(), found.counts(labelled=True)
+    print(f"  active pairs ({found.dof} joints, classes up to symmetry): {c['active']} of {c['sets']} can be active "
+          f"together (full {c['full']}, partial {c['partial']}, fractionated {c['fractionated']}); "
+          f"{labelled['active']} of {labelled['sets']} sets")
+    for kind in (*DOF_TYPES, None):
+        items = [" ".join(f"{u}-{v}" for u, v in s.edges) + (f" (x{s.size})" if s.size > 1 else "")
+                 for s in found.classes if s.dof_type == kind]
+        if items:
+            print(textwrap.fill("; ".join(items), 116, initial_indent=f"    {kind or 'not active':<13s}",
+                                subsequent_indent=" " * 17))

@@ -60,17 +60,33 @@ A and C cannot both be active: with them driven, links 0, 1, 2, 3 are over-const
 >>> result = active_pairs(fig, [(0, 1), (0, 4)])
 >>> result.feasible, result.dof_type, result.moved_by
 (True, 'partial', ((1, 2, 3, 5, 6), (4, 5, 6)))
+
+A chain without a ground link (a plain :class:`~domes.model.chain.Chain` of
+the atlas) has a DOF type *whatever link is the ground*: ``partial`` when
+some choice of ground makes it partial, i.e. two links not jointed by an
+active pair keep their relative position while one input moves.
+:func:`active_sets` tabulates every set of ``W`` joints of an atlas chain,
+up to its automorphisms, with the sub-chain counts: the chosen joints can be
+active together exactly when every set ``S`` of links keeps
+``F(S) = 3(|S| − 1) − 2e(S)`` at least the number of chosen joints inside
+it, and the DOF is partial exactly when, besides, some set of three or more
+links has ``F(S)`` equal to the chosen joints inside it while some chosen
+joint lies outside (those links are then rigid with that input held).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import combinations
 from typing import Iterable
 
 import networkx as nx
+import numpy as np
 
 from domes.errors import InputError
+from domes.model.labelled import LabelledChain
 from domes.model.pebble import PebbleGame
+from domes.model.rigidity import MAX_LINKS, subset_dof_table, subset_sizes
 
 #: Bars of each joint type: a revolute or rolling pair is a pin (2 bars), a prismatic pair a rotation lock and a
 #: bar across the slide, a gear or cam pair one bar along the contact normal, and a spring, cylinder or force
@@ -94,9 +110,11 @@ class ActivePairs:
     set found with more bars than its freedoms (empty if none);
     ``feasible``: the joints are independent and leave no DOF. For feasible
     joints, ``dof_type`` (:data:`DOF_TYPES`; ``None`` for a chain of DOF 0
-    or with no single ground link) and ``moved_by`` (per driven joint, the
-    links that move with it while the others are held) say how the inputs
-    share the links. ``reason`` says it in words.
+    or with two or more ground links; without a ground link, the type
+    whatever link is the ground) and ``moved_by`` (per driven joint, the
+    links that move with it while the others are held; empty without a
+    single ground link) say how the inputs share the links. ``reason`` says
+    it in words.
     """
 
     joints: tuple[int, ...]
@@ -331,9 +349,21 @@ def _links(chain, links) -> str:
     return ("link " if len(links) == 1 else "links ") + ", ".join(map(chain.link_name, links))
 
 
+def _labelled(chain):
+    """A plain :class:`~domes.model.chain.Chain` as a labelled chain of revolute joints without roles."""
+    if hasattr(chain, "joint_types"):
+        return chain
+    try:
+        n, edges = chain.n, chain.edges
+    except AttributeError:
+        raise InputError(f"{chain!r} is not a chain: give a Chain or a LabelledChain") from None
+    return LabelledChain.build(n, edges)
+
+
 def active_pairs(chain, joints: Iterable | None = None, *, role: str = "input") -> ActivePairs:
     """Whether ``joints`` (indices into ``chain.edges`` or link pairs; default :func:`input_joints`) of a
-    :class:`~domes.model.LabelledChain` can be its active pairs together, and the DOF type they give.
+    :class:`~domes.model.LabelledChain` or a plain :class:`~domes.model.Chain` (revolute joints, no ground)
+    can be its active pairs together, and the DOF type they give.
 
     >>> from domes.model import LabelledChain
     >>> five_bar = LabelledChain.build(5, [(0, 1), (1, 2), (2, 3), (3, 4), (4, 0)],
@@ -343,7 +373,11 @@ def active_pairs(chain, joints: Iterable | None = None, *, role: str = "input") 
     (True, 2, 'full')
     >>> active_pairs(five_bar, [(0, 1)]).reason
     '0-1 leaves 1 of the 2 DOF: the chain needs 2 active pairs'
+    >>> from domes.model import Chain
+    >>> active_pairs(Chain.from_graph6("Dhc"), [(0, 1), (0, 4)]).dof_type     # the five-bar, no ground
+    'full'
     """
+    chain = _labelled(chain)
     chosen = input_joints(chain, role) if joints is None else _joint_indices(chain, joints)
     base, extra = _bars(chain, chosen)
     n = chain.n
@@ -372,6 +406,8 @@ def active_pairs(chain, joints: Iterable | None = None, *, role: str = "input") 
     else:
         if dof >= 1 and len(grounds) == 1:
             dof_type, moved = _dof_type(chain, chosen, base, extra, grounds[0])
+        elif dof >= 1 and not grounds:
+            dof_type = _dof_type_any_ground(chain, chosen, base, extra)
         kind = f", {dof_type} DOF" if dof_type else ""
         reason = f"{said} can drive the chain together (DOF {dof}{kind})"
     return ActivePairs(chosen, names, dof, remaining, over, before, dof_type, moved, reason)
@@ -401,6 +437,12 @@ def _dof_type(chain, chosen, base, extra, ground: int) -> tuple[str, tuple[tuple
     return "full", moved
 
 
+def _dof_type_any_ground(chain, chosen, base, extra) -> str:
+    """The DOF type whatever link is the ground: ``partial`` if some ground makes it so."""
+    types = {_dof_type(chain, chosen, base, extra, g)[0] for g in range(chain.n)}
+    return next(t for t in ("fractionated", "partial", "full") if t in types)
+
+
 def can_be_active(chain, joints: Iterable | None = None, *, role: str = "input") -> bool:
     """The predicate of :func:`active_pairs`: the joints can drive the chain together.
 
@@ -411,4 +453,143 @@ def can_be_active(chain, joints: Iterable | None = None, *, role: str = "input")
     return active_pairs(chain, joints, role=role).feasible
 
 
-__all__ = ["BARS", "DOF_TYPES", "DRIVEN_BAR", "ActivePairs", "active_pairs", "can_be_active", "input_joints"]
+@dataclass(frozen=True)
+class JointSet:
+    """One class of sets of joints under the chain's automorphisms: ``joints`` (indices into ``chain.edges``,
+    the smallest set of the class), ``edges`` (the same as link pairs), ``size`` (sets in the class) and
+    ``dof_type`` (:data:`DOF_TYPES`, ``None`` when the joints cannot be active together)."""
+
+    joints: tuple[int, ...]
+    edges: tuple[tuple[int, int], ...]
+    size: int
+    dof_type: str | None
+
+    @property
+    def feasible(self) -> bool:
+        return self.dof_type is not None
+
+
+@dataclass(frozen=True)
+class ActiveSets:
+    """Every set of ``dof`` joints of a chain, as :class:`JointSet` classes under its automorphisms."""
+
+    dof: int
+    classes: tuple[JointSet, ...]
+
+    def counts(self, labelled: bool = False) -> dict[str, int]:
+        """``sets``, ``active`` (can be active together) and how many give each DOF type: classes, or with
+        ``labelled`` every set of joints."""
+        weight = (lambda c: c.size) if labelled else (lambda c: 1)
+        out = {"sets": sum(map(weight, self.classes)),
+               "active": sum(weight(c) for c in self.classes if c.feasible)}
+        for t in DOF_TYPES:
+            out[t] = sum(weight(c) for c in self.classes if c.dof_type == t)
+        return out
+
+    def summary(self) -> str:
+        """One line: ``active a/s (full f, partial p, fractionated r)`` over the classes."""
+        c = self.counts()
+        return (f"active {c['active']}/{c['sets']} (full {c['full']}, partial {c['partial']}, "
+                f"fractionated {c['fractionated']})")
+
+    def to_dict(self) -> dict:
+        """Plain data: the counts of classes and of sets, and every class."""
+        return {"dof": self.dof, "classes": self.counts(), "labelled": self.counts(labelled=True),
+                "joint_sets": [{"joints": [list(e) for e in c.edges], "size": c.size, "dof_type": c.dof_type}
+                               for c in self.classes]}
+
+
+def _set_classes(chain, sets: list[tuple[int, ...]]) -> dict[tuple[int, ...], list[tuple[int, ...]]]:
+    """The sets of joints grouped by the chain's automorphisms, keyed by each group's smallest set."""
+    index = {e: i for i, e in enumerate(chain.edges)}
+    parent = {s: s for s in sets}
+
+    def find(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for perm in chain.automorphisms.generators:
+        image_of = [index[(min(perm[u], perm[v]), max(perm[u], perm[v]))] for u, v in chain.edges]
+        for s in sets:
+            a, b = find(s), find(tuple(sorted(image_of[i] for i in s)))
+            if a != b:
+                parent[max(a, b)] = min(a, b)
+    classes: dict[tuple[int, ...], list[tuple[int, ...]]] = {}
+    for s in sets:
+        classes.setdefault(find(s), []).append(s)
+    return classes
+
+
+def active_sets(chain) -> ActiveSets:
+    """Every set of ``W`` joints of a chain of DOF ``W ≥ 1`` (revolute joints, no rigid sub-chain): whether
+    they can be active together and the DOF type they give, whatever link is the ground (see the module).
+
+    Sets related by an automorphism of the chain form one :class:`JointSet` class; ``counts()`` counts
+    classes, ``counts(labelled=True)`` sets.
+
+    >>> from domes.model import Chain
+    >>> fig_3_19 = Chain(7, [(0, 1), (1, 2), (2, 3), (0, 3), (0, 4), (4, 5), (5, 6), (2, 6)])
+    >>> found = active_sets(fig_3_19)
+    >>> found.counts()
+    {'sets': 11, 'active': 8, 'full': 4, 'partial': 4, 'fractionated': 0}
+    >>> found.counts(labelled=True)["sets"], found.counts(labelled=True)["active"]
+    (28, 22)
+    >>> next(c for c in found.classes if c.edges == ((0, 1), (2, 3))).dof_type is None   # A and C
+    True
+    """
+    if isinstance(chain, LabelledChain):
+        if set(chain.joint_types) - {"R"}:
+            raise InputError("active_sets counts chains of revolute joints; this chain has joint types "
+                             f"{' '.join(sorted(set(chain.joint_types) - {'R'}))}: ask active_pairs per set")
+        from domes.model.chain import Chain
+
+        chain = Chain(chain.n, chain.edges)
+    if not hasattr(chain, "automorphisms"):
+        raise InputError(f"{chain!r} is not a chain: give a Chain (e.g. Chain.from_graph6)")
+    n, edges, dof = chain.n, chain.edges, chain.dof
+    if dof < 1:
+        raise InputError(f"active pairs are for chains of DOF 1 or more; this chain has DOF {dof}")
+    if n > MAX_LINKS:
+        raise InputError(f"active_sets tabulates the sub-chains of at most {MAX_LINKS} links, got {n}")
+    if not chain.is_connected:
+        raise InputError("the chain is not connected: active pairs are for one connected chain")
+    rigid = chain.rigid_subchain
+    if rigid is not None:
+        raise InputError(f"links {', '.join(map(str, rigid))} form a rigid or over-constrained sub-chain: "
+                         "no DOF types without it")
+    free = subset_dof_table(n, edges)                     # F(S) of every set of links; only F(S) <= W can bind
+    near = np.flatnonzero(free <= dof)
+    near = near[near > 0]
+    free, sizes, masks = free[near], subset_sizes(n)[near], near.astype(np.int64)
+    inside = np.array([(masks >> u) & (masks >> v) & 1 for u, v in edges], dtype=np.int8)
+    loose = (sizes >= 3) & (masks != (1 << n) - 1)         # proper sets of three or more links
+    graph = chain.to_networkx()
+    block_of = {}
+    for b, block in enumerate(nx.biconnected_component_edges(graph)):
+        if len(block) >= 3:
+            for u, v in block:
+                block_of[(min(u, v), max(u, v))] = b
+    classes = _set_classes(chain, list(combinations(range(len(edges)), dof)))
+    reps = sorted(classes)
+    types: list[str | None] = []
+    chunk = max(1, (1 << 22) >> n)
+    for start in range(0, len(reps), chunk):
+        part = np.array(reps[start:start + chunk], dtype=np.int64)
+        count = inside[part].sum(axis=1, dtype=np.int16)          # chosen joints inside each set of links
+        feasible = (count <= free).all(axis=1)
+        partial = ((count == free) & (count < dof) & loose).any(axis=1)
+        for rep, ok, part_ in zip(reps[start:start + chunk], feasible, partial):
+            if not ok:
+                types.append(None)
+            elif len({block_of.get(edges[i]) for i in rep} - {None}) >= 2:
+                types.append("fractionated")
+            else:
+                types.append("partial" if part_ else "full")
+    return ActiveSets(dof, tuple(JointSet(rep, tuple(edges[i] for i in rep), len(classes[rep]), t)
+                                 for rep, t in zip(reps, types)))
+
+
+__all__ = ["BARS", "DOF_TYPES", "DRIVEN_BAR", "ActivePairs", "ActiveSets", "JointSet", "active_pairs", "active_sets",
+           "can_be_active", "input_joints"]
