@@ -7,8 +7,10 @@ import json
 import sys
 
 from domes.cli.common import progress_printer
+from domes.errors import InputError
 from domes.io.scenes import load_scene
 from domes.io.topology import read_topology, to_mtm, type_matrix
+from domes.model.combination_modes import combination_phrase
 from domes.typesynth.generalize import generalize
 from domes.typesynth.regenerate import Regeneration, regenerate
 
@@ -48,6 +50,15 @@ def _roles_text(candidate) -> str:
     return "  ".join(f"{r}={','.join(map(str, vs))}" for r, vs in sorted(by_role.items(), key=lambda x: x[1]))
 
 
+def _mode_text(candidate, dof: int) -> str:
+    """The candidate's combination mode(s) (seed 002 §3-3-III.2), when it has one ground and one input."""
+    try:
+        phrase = combination_phrase(candidate.labelled, dof)
+    except InputError:  # no driver (or no single one): no combination mode to read
+        return ""
+    return f"  {phrase}" if phrase else ""
+
+
 def print_regeneration(result: Regeneration, new_only: bool, out=None) -> None:
     out = out or sys.stdout  # looked up now: the stdout of the moment (a test's capture), not of the import
     scene = result.scene
@@ -77,7 +88,9 @@ def print_regeneration(result: Regeneration, new_only: bool, out=None) -> None:
         special = " ".join(f"{u}-{v}:{t}" for (u, v), t in zip(m.edges, m.joint_types) if t != "R")
         flag = f"  EXISTING ({'; '.join(c.existing)})" if c.existing else ""
         joints = " ".join(f"{u}-{v}" for u, v in m.edges)
-        out.write(f"  {c.id:3d}  chain {c.chain_index}{named(c.chain_index)}  {_roles_text(c)}  [{special}]  joints {joints}{flag}\n")
+        mode = _mode_text(c, scene.dof)
+        out.write(f"  {c.id:3d}  chain {c.chain_index}{named(c.chain_index)}  {_roles_text(c)}  [{special}]  "
+                  f"joints {joints}{mode}{flag}\n")
 
 
 def run_regenerate(args: argparse.Namespace) -> int:

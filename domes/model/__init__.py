@@ -16,11 +16,13 @@ One model serves the whole pipeline, from type synthesis to kinematics:
 """
 
 from domes.model.chain import Branch, Chain, chain_properties
+from domes.model.combination_modes import CombinationMode, combination_modes
 from domes.model.labelled import JOINT_TYPES, LabelledChain
 from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism, Polygon, from_labelled
 from domes.model.mobility import PLANAR, SPATIAL, chain_joints, chain_loops, mobility
 
 __all__ = [
-    "Branch", "Chain", "CouplerPoint", "Input", "JOINT_TYPES", "Joint", "LabelledChain", "Mechanism", "Polygon",
-    "PLANAR", "SPATIAL", "chain_joints", "chain_loops", "chain_properties", "from_labelled", "mobility",
+    "Branch", "Chain", "CombinationMode", "CouplerPoint", "Input", "JOINT_TYPES", "Joint", "LabelledChain",
+    "Mechanism", "Polygon", "PLANAR", "SPATIAL", "chain_joints", "chain_loops", "chain_properties",
+    "combination_modes", "from_labelled", "mobility",
 ]
