@@ -28,6 +28,7 @@ import numpy as np
 
 from domes.errors import DomesError
 from domes.knowledge.problems import ProblemFrame
+from domes.model.combination_modes import combination_phrase
 from domes.model.labelled import LabelledChain
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.sweep import sweep
@@ -193,17 +194,34 @@ def _kept(frame: ProblemFrame) -> list[str]:
         title = f"Candidate {c.get('id')}"
         badge = "existing design" if c.get("existing") else None
         try:
-            cards.append(mechanism_card(c.get("id"), LabelledChain.from_dict(c), title=title, badge=badge,
-                                        size=SIZE * 0.8).html())
+            chain = LabelledChain.from_dict(c)
+            mode = _mode(chain, frame.dof)
+            cards.append(mechanism_card(c.get("id"), chain, title=title, badge=badge, size=SIZE * 0.8,
+                                        properties=(("combination", mode),) if mode else ()).html())
         except DomesError as exc:
             cards.append(tag("div", {"class": "card"}, [tag("h2", text=title), tag("p", text=f"not drawn: {exc}")]))
     out.append(tag("div", {"class": "cards"}, cards))
     return out
 
 
+def _mode(chain: LabelledChain, dof: int | None) -> str:
+    """The candidate's combination mode (seed 002 §3-3-III.2), or empty without a single frame and driver."""
+    try:
+        return combination_phrase(chain, dof)
+    except DomesError:
+        return ""
+
+
 def _design(d: dict, frame: ProblemFrame, file: str | None) -> str:
     heading = f"{d.get('rank')}. candidate {d['candidate']}: score {d.get('score', 0):.3f} ({d.get('grade', '')})"
     children = [tag("h3", text=heading)]
+    chosen = next((c for c in frame.results if c.get("id") == d["candidate"]), None)
+    try:
+        mode = _mode(LabelledChain.from_dict(chosen), frame.dof) if chosen is not None else ""
+    except DomesError:
+        mode = ""
+    if mode:
+        children.append(tag("p", {"class": "note"}, text=mode[0].upper() + mode[1:]))
     figures = []
     mech = None
     try:

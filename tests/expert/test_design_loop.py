@@ -83,6 +83,24 @@ def test_each_session_ends_in_a_report_with_ranked_feasible_designs(sessions, ke
             assert failed and failed[0]["name"] in d["reason"]
 
 
+
+def test_the_report_names_each_designs_combination_mode(sessions):
+    """Seed 002 §3-3-III.2: a binary driver on the frame is a series combination, a driver of three or more
+    pairs on the frame a parallel one; read here from the candidate's joints, not by the classifier."""
+    outcome, _, report = sessions["window"]
+    page = (report / "index.html").read_text()
+    for d in feasible(outcome):
+        c = next(c for c in outcome.frame.results if c["id"] == d["candidate"])
+        role = {link["id"]: set(link.get("roles", ())) for link in c["links"]}
+        driver = next(k for k, r in role.items() if "input" in r)
+        ground = next(k for k, r in role.items() if "ground" in r)
+        ends = [tuple(j["links"]) for j in c["joints"]]
+        degree = sum(driver in e for e in ends)
+        assert any(set(e) == {driver, ground} for e in ends)  # the scene drives from the frame
+        word = "Series combination: a binary driver" if degree == 2 else "Parallel combination: a"
+        section = page.split(f'id="design-{d["candidate"]}"')[1].split('class="design"')[0]
+        assert word in section
+
 def stroke(d):
     mech = Mechanism.from_dict(d["mechanism"])
     q0, q1 = d["stroke"]
