@@ -150,8 +150,13 @@ def _table(rows, header=None) -> str:
 
 def _problem(frame: ProblemFrame, scene_title: str) -> list[str]:
     out = [tag("h2", {"class": "section"}, text="Problem")]
+    sizes = sorted({(len(c.get("links", ())), len(c.get("joints", ()))) for c in frame.results})
+    size = f"{frame.links}, {frame.joints}"
+    if sizes and sizes != [(frame.links, frame.joints)]:  # a scene's generalized chains, particularized
+        size += (" (the scene's chains; its elements made the candidates "
+                 + " or ".join(f"{n} links, {j} joints" for n, j in sizes) + ")")
     rows = [("class", frame.problem_class.replace("_", " ")), ("degrees of freedom", frame.dof),
-            ("independent loops", frame.loops), ("links, joints", f"{frame.links}, {frame.joints}"),
+            ("independent loops", frame.loops), ("links, joints", size),
             ("sliders, gear pairs", f"{frame.slider_pairs or 0}, {frame.gear_pairs or 0}"),
             ("representative attributes", ", ".join(sorted(n.replace("_", " ") for n in frame.names)) or "none"),
             ("scene", scene_title or frame.scene or "none")]

@@ -357,6 +357,12 @@ def test_a_problem_of_the_second_class_gets_the_catalogue_then_type_synthesis(ca
     assert "12 of 12 candidates kept" in said and outcome.frame is not None
     kept = [line for line in said.splitlines() if line.strip().startswith("candidate ")]
     assert len(kept) == 12 and all(":C" in line and ":S" in line and "input" in line for line in kept)
+    # the report gives the scene's generalized chains and the particularized candidates' own size
+    from domes.sketch.report import report_html
+    page = report_html(outcome.frame)
+    sizes = {(len(c["links"]), len(c["joints"])) for c in outcome.frame.results}
+    assert all(n < outcome.frame.links for n, _ in sizes)
+    assert all(f"{n} links, {j} joints" in page for n, j in sizes)
     strict = INDEXING.replace("function_requirements: dwell >= 90", "function_requirements: dwell >= 260; index = 90")
     _, said = run(casebase, strict)
     assert "1 meeting dwell >= 260; index = 90" in said and "left out: Geneva wheel, 6 slots" in said
