@@ -38,16 +38,7 @@ def load_catalogue(folder: str | Path | None = None) -> list[Entry]:
         raise src.error(f"unknown key(s) {', '.join(sorted(unknown))}: only [[mechanism]] tables", src.line_of(
             sorted(unknown)[0]))
     out, names = [], set()
-    for i, raw in enumerate(items):
-        line = src.table_line("mechanism", i)
-        if not isinstance(raw, dict):
-            raise src.error("a [[mechanism]] must be a table", line)
-        extra = set(raw) - _KEYS
-        if extra:
-            raise src.error(f"unknown key(s) {', '.join(sorted(extra))} (known: {', '.join(sorted(_KEYS))})", line)
-        for key in ("name", "motion", "model", "measure"):
-            if key not in raw:
-                raise src.error(f"[[mechanism]] {raw.get('name', i + 1)!r}: '{key}' is missing", line)
+    for line, raw in _tables(src, "mechanism", _KEYS, ("name", "motion", "model", "measure"), "name"):
         name = raw["name"]
         if not isinstance(name, str) or not name.strip() or name in names:
             raise src.error(f"a mechanism's name must be a new, non-empty text, got {name!r}", line)
@@ -93,17 +84,7 @@ def load_heuristics(folder: str | Path | None = None) -> list[Heuristic]:
     if unknown or not isinstance(items, list):
         raise src.error("only [[heuristic]] tables", src.line_of(sorted(unknown)[0]) if unknown else None)
     out = []
-    for i, raw in enumerate(items):
-        line = src.table_line("heuristic", i)
-        if not isinstance(raw, dict):
-            raise src.error("a [[heuristic]] must be a table", line)
-        extra = set(raw) - _HEURISTIC_KEYS
-        if extra:
-            raise src.error(f"unknown key(s) {', '.join(sorted(extra))} (known: {', '.join(sorted(_HEURISTIC_KEYS))})",
-                            line)
-        for key in ("function", "prefer", "reason"):
-            if key not in raw:
-                raise src.error(f"[[heuristic]] {i + 1}: '{key}' is missing", line)
+    for line, raw in _tables(src, "heuristic", _HEURISTIC_KEYS, ("function", "prefer", "reason"), "function"):
         lists = {k: raw.get(k, []) for k in ("prefer", "implied_by", "outputs")}
         for key, value in lists.items():
             if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
@@ -114,3 +95,19 @@ def load_heuristics(folder: str | Path | None = None) -> list[Heuristic]:
         except DomesError as exc:
             raise InputError(f"{path}:{line}: {exc}") from None
     return out
+
+
+def _tables(src: TomlSource, kind: str, keys: set, required: tuple, label: str):
+    """Each ``[[kind]]`` table of ``src`` with its line, checked for unknown and missing keys (errors name the
+    table by its ``label`` key, else by its number)."""
+    for i, raw in enumerate(src.data.get(kind, [])):
+        line = src.table_line(kind, i)
+        if not isinstance(raw, dict):
+            raise src.error(f"a [[{kind}]] must be a table", line)
+        extra = set(raw) - keys
+        if extra:
+            raise src.error(f"unknown key(s) {', '.join(sorted(extra))} (known: {', '.join(sorted(keys))})", line)
+        for key in required:
+            if key not in raw:
+                raise src.error(f"[[{kind}]] {raw.get(label, i + 1)!r}: '{key}' is missing", line)
+        yield line, raw
