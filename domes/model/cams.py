@@ -1,4 +1,4 @@
-"""Cam pairs of a planar mechanism: a cam turning on a carrier drives a follower by its motion law.
+"""Cam pairs of a planar mechanism: a cam turning on a carrier drives a follower by its motion law or its profile.
 
 A cam pair joins a *cam* (``links[0]``, jointed to the carrier by a
 revolute) and a *follower* (``links[1]``): translating when it slides on the
@@ -11,9 +11,14 @@ angle (counter-clockwise), where ``Δθ`` is the cam's turn relative to the
 carrier since the drawn pose and ``φ`` (``phase``) the cam's angle in the
 law at the drawn pose. This is the cam as designed for its law (the pitch
 curve's contact, exact); its profile, pressure angle and undercut are
-:func:`domes.design.cam.design_cam`'s, and a given profile's contact
-:func:`domes.design.cam.follow`'s. ``at`` is the drawn contact point, for
-drawing.
+:func:`domes.design.cam.design_cam`'s. ``at`` is the drawn contact point,
+for drawing.
+
+Or the pair is given by its cam's outline, a :class:`CamProfile` (points
+and the follower's face, plain data): then ``L`` is the contact of the
+follower with that outline, found by the kinematics backend
+(:class:`domes.motion.camcontact.ProfileLaw`, which a ``CamProfile``
+evaluates through).
 
 >>> from domes.model.mechanism import Joint, Input, Mechanism
 >>> from domes.model.laws import Motion
@@ -29,15 +34,142 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
+from typing import ClassVar
+
+import numpy as np
 
 from domes.errors import InputError
 
 Point2 = tuple[float, float]
 
+#: Follower kinds and faces a profile is followed with.
+KINDS = ("translating", "oscillating")
+FACES = ("knife", "roller", "flat")
+#: The fewest and the most points a cam's profile takes.
+MIN_POINTS = 16
+MAX_POINTS = 1_000_000
+
+
+def profile_points(points) -> np.ndarray:
+    """A cam's outline ``points`` (x, y) as an array in counter-clockwise order, checked: at least
+    :data:`MIN_POINTS` finite points going once round the cam's centre (the origin), in order.
+
+    >>> import math
+    >>> ring = [(math.cos(-k * math.pi / 10), math.sin(-k * math.pi / 10)) for k in range(20)]   # clockwise
+    >>> P = profile_points(ring); round(float(P[1][1]), 6) > 0
+    True
+    """
+    try:
+        P = np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError("a cam profile's points must be pairs of numbers (x, y)") from None
+    if P.ndim != 2 or P.shape[1] != 2 or not MIN_POINTS <= len(P) <= MAX_POINTS:
+        raise InputError(f"a cam profile needs {MIN_POINTS} to {MAX_POINTS:,} points (x, y), got an array of shape "
+                         f"{P.shape}")
+    if not np.all(np.isfinite(P)):
+        raise InputError(f"a cam profile's points must be finite; point {int(np.flatnonzero(~np.isfinite(P).all(1))[0])}"
+                         " is not")
+    ang = np.unwrap(np.arctan2(P[:, 1], P[:, 0]))
+    if ang[-1] < ang[0]:
+        P, ang = P[::-1], ang[::-1]
+    step = np.diff(ang)
+    if np.any(np.hypot(P[:, 0], P[:, 1]) == 0) or np.any(step <= 0) \
+            or not abs(ang[-1] - ang[0] - 2 * math.pi) < 2 * math.pi / len(P) * 1.5:
+        bad = np.flatnonzero(step <= 0)
+        at = f" (it turns back at point {int(bad[0]) + 1} of {len(P)})" if bad.size else ""
+        raise InputError("the profile's points must go once round the cam's centre, in order (a star-shaped "
+                         f"outline about the origin){at}")
+    return P
+
+
+@dataclass(frozen=True)
+class CamProfile:
+    """A cam's outline and its follower, as data: what a cam pair follows by contact instead of a law.
+
+    ``points`` are the outline in the profile's frame as ``domes cam`` writes
+    it: the cam's centre at the origin; a translating follower's axis
+    parallel to +y at x = ``offset``, rising towards +y; an oscillating
+    follower's pivot at (``pivot``, 0), its arm (``arm`` to the knife edge or
+    the roller's centre) on the +y side, rising as it turns away from the cam.
+    ``direction`` is the way the cam was designed to turn (1
+    counter-clockwise, −1 clockwise: the frame is seen mirrored). Like a law
+    it has ``periodic``, ``period`` and :meth:`evaluate`, which the
+    kinematics backend computes (:class:`domes.motion.camcontact.ProfileLaw`):
+    the follower's lift (a length, or a counter-clockwise angle as the
+    mechanism sees it) and two derivatives at cam angles ``θ``.
+    ``base_radius`` only sets the lift's zero (default: the outline's
+    nearest point to the centre).
+
+    >>> import math
+    >>> ring = [(10 * math.cos(k * math.pi / 18), 10 * math.sin(k * math.pi / 18)) for k in range(36)]
+    >>> CamProfile(tuple(ring), "translating", "roller", roller=2.0).face
+    'roller'
+    """
+
+    points: tuple[Point2, ...]
+    kind: str
+    face: str
+    roller: float = 0.0
+    offset: float = 0.0
+    pivot: float = 0.0
+    arm: float = 0.0
+    base_radius: float | None = None
+    direction: int = 1
+
+    periodic: ClassVar[bool] = True
+    period: ClassVar[float] = 2 * math.pi
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise InputError(f"follower kind must be one of {', '.join(KINDS)}, got {self.kind!r}")
+        if self.face not in FACES:
+            raise InputError(f"follower face must be one of {', '.join(FACES)}, got {self.face!r}")
+        if self.kind == "oscillating" and self.face == "flat":
+            raise InputError("an oscillating flat face is not followed on a given profile (knife or roller only)")
+        for name in ("roller", "offset", "pivot", "arm") + (("base_radius",) if self.base_radius is not None else ()):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise InputError(f"follower {name} must be a finite number, got {v!r}")
+        if self.face == "roller" and not self.roller > 0:
+            raise InputError(f"a roller follower needs a roller radius > 0, got {self.roller!r}")
+        if self.face != "roller" and self.roller:
+            raise InputError(f"a {self.face} follower has no roller (roller = {self.roller!r})")
+        if self.kind == "oscillating" and not (self.pivot > 0 and self.arm > 0):
+            raise InputError(f"an oscillating follower needs its pivot's distance from the cam ({self.pivot!r}) and "
+                             f"its arm ({self.arm!r}) > 0")
+        if self.base_radius is not None and not self.base_radius > 0:
+            raise InputError(f"the base radius must be > 0, got {self.base_radius!r}")
+        if self.direction not in (1, -1):
+            raise InputError(f"direction must be 1 (counter-clockwise) or -1 (clockwise), got {self.direction!r}")
+        profile_points(self.points)
+        object.__setattr__(self, "points", tuple((float(x), float(y)) for x, y in self.points))   # as given, hashable
+
+    @cached_property
+    def law(self):
+        """The backend's law for this profile (built once)."""
+        if _PROFILE_LAW is None:
+            raise RuntimeError("a cam profile is followed by the kinematics backend: import domes.motion.camcontact")
+        return _PROFILE_LAW(self)
+
+    def evaluate(self, x, order: int = 2) -> tuple[np.ndarray, ...]:
+        """The follower's lift and its derivatives at cam angles ``x`` (``order`` 0 to 2), by contact."""
+        return self.law.evaluate(x, order)
+
+
+_PROFILE_LAW = None
+
+
+def use_profile_law(factory) -> None:
+    """Set the factory that turns a :class:`CamProfile` into a law (the kinematics backend sets it on import)."""
+    global _PROFILE_LAW
+    _PROFILE_LAW = factory
+
 
 @dataclass(frozen=True)
 class CamPair:
-    """A cam (``links[0]``) driving a follower (``links[1]``) by the periodic motion law ``law``."""
+    """A cam (``links[0]``) driving a follower (``links[1]``) by the periodic motion law ``law`` (a
+    :class:`~domes.model.laws.Motion`, or a :class:`CamProfile` followed by contact)."""
 
     name: str
     links: tuple[str, str]
@@ -89,10 +221,34 @@ def _contact(pair: CamPair, mech) -> Contact:
     if len(found) > 1:
         raise InputError(f"{where}: links {[f[0] for f in found]} could each carry the pair; name one with 'carrier'")
     c, pivot, held = found[0]
+    if isinstance(pair.law, CamProfile):
+        _check_profile(pair, where, pivot, held)
     if held.kind == "P":
         return Contact(pair, "translating", cam, follower, c, pivot.name, held.name,
                        1.0 if held.links[0] == c else -1.0)
     return Contact(pair, "oscillating", cam, follower, c, pivot.name, held.name)
 
 
-__all__ = ["CamPair", "Contact"]
+def _check_profile(pair: CamPair, where: str, pivot, held) -> None:
+    """A profile's follower agrees with the mechanism: its kind, its pivot's distance, the arm's side."""
+    p = pair.law
+    kind = "translating" if held.kind == "P" else "oscillating"
+    if p.kind != kind:
+        raise InputError(f"{where}: the profile's follower is {p.kind} but the follower's joint {held.name!r} makes it "
+                         f"{kind}")
+    if kind == "translating":
+        return
+    d = math.dist(pivot.at, held.at)
+    if abs(d - p.pivot) > 1e-9 * max(1.0, d):
+        raise InputError(f"{where}: the profile's follower pivot is {p.pivot:.12g} from the cam's centre, the "
+                         f"mechanism's joints {pivot.name!r} and {held.name!r} are {d:.12g} apart")
+    (ox, oy), (px, py) = pivot.at, held.at
+    side = (px - ox) * (pair.at[1] - oy) - (py - oy) * (pair.at[0] - ox)
+    if side * p.direction <= 0:
+        want = "left" if p.direction == 1 else "right"
+        raise InputError(f"{where}: the drawn contact 'at' {list(pair.at)} must lie on the {want} of the line from the "
+                         f"cam's centre {pivot.name!r} to the follower's pivot {held.name!r}, where a profile designed "
+                         f"to turn {'counter-clockwise' if p.direction == 1 else 'clockwise'} puts the arm")
+
+
+__all__ = ["CamPair", "CamProfile", "Contact", "profile_points", "use_profile_law"]

@@ -37,10 +37,11 @@ from __future__ import annotations
 import math
 from collections import Counter
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Iterable, Mapping
 
-from domes.errors import InputError
-from domes.model.cams import CamPair
+from domes.errors import InputError, shown
+from domes.model.cams import FACES, MAX_POINTS, CamPair, CamProfile, profile_points
 from domes.model.fields import LARGEST, check_space, read_list
 from domes.model.fields import check_keys as _keys
 from domes.model.fields import read_number as _num
@@ -321,14 +322,14 @@ class Mechanism(Linkage):
             raise InputError(f"{source}: joints: expected a list")
         for k, item in enumerate(data["joints"]):
             where = f"{source}: joints[{k}]"
-            _keys(item, {"name", "type", "links", "at", "direction", "origin", "teeth", "carrier", "law", "phase"},
-                  {"name", "type", "links", "at"}, where)
+            _keys(item, {"name", "type", "links", "at", "direction", "origin", "teeth", "carrier", "law", "phase"}
+                  | PROFILE_KEYS, {"name", "type", "links", "at"}, where)
             if not isinstance(item["links"], list):
                 raise InputError(f"{where}.links: expected a list of link names")
             if item["type"] == "C":
                 cams.append((item, where))
                 continue
-            extra = {"law", "phase"} & set(item)
+            extra = ({"law", "phase"} | PROFILE_KEYS) & set(item)
             if extra:
                 raise InputError(f"{where}: {sorted(extra)} belong to cam pairs (type 'C'), not to a {item['type']!r} joint")
             if item["type"] == "G":
@@ -346,7 +347,7 @@ class Mechanism(Linkage):
                 to_rad(_num(item.get("direction", 0.0), f"{where}.direction")),
                 _xy(item["origin"], f"{where}.origin") if "origin" in item else None,
             ))
-        cams = [_cam_from(item, where, to_rad, joints) for item, where in cams]
+        cams = [_cam_from(item, where, to_rad, joints, source) for item, where in cams]
         inputs = []
         for k, item in enumerate(read_list(data["inputs"], f"{source}: inputs")):
             where = f"{source}: inputs[{k}]"
@@ -398,8 +399,11 @@ class Mechanism(Linkage):
             out["joints"].append(item)
         for c in mech.cams:
             oscillating = c.contact(mech).kind == "oscillating"
-            item = {"name": c.name, "type": "C", "links": list(c.links), "at": list(c.at),
-                    "law": [[g.law, deg(g.length), deg(g.rise) if oscillating else g.rise] for g in c.law.segments]}
+            item = {"name": c.name, "type": "C", "links": list(c.links), "at": list(c.at)}
+            if isinstance(c.law, CamProfile):
+                item.update(_profile_dict(c.law))
+            else:
+                item["law"] = [[g.law, deg(g.length), deg(g.rise) if oscillating else g.rise] for g in c.law.segments]
             if c.phase:
                 item["phase"] = deg(c.phase)
             if c.carrier is not None:
@@ -417,16 +421,33 @@ class Mechanism(Linkage):
         return out
 
 
-def _cam_from(item, where: str, to_rad, joints) -> CamPair:
+#: A cam pair's keys when it is given by its cam's profile instead of a law.
+PROFILE_KEYS = {"profile", "face", "roller", "offset", "arm", "base_radius", "profile_direction"}
+
+
+def _cam_from(item, where: str, to_rad, joints, source: str = "") -> CamPair:
     """A cam pair from its file item: ``law`` as ``[law, degrees, rise]`` rows over one turn, the rise a length for
-    a translating follower (one on a P joint) and an angle in the file's unit for an oscillating one."""
+    a translating follower (one on a P joint) and an angle in the file's unit for an oscillating one; or its cam's
+    ``profile`` (:func:`_profile_from`)."""
     if len(item["links"]) != 2:
         raise InputError(f"{where}.links: a cam pair joins exactly two links [cam, follower]")
-    if "law" not in item:
-        raise InputError(f"{where}: a cam pair needs its follower's 'law': rows [law, degrees, rise] over one turn")
+    if "law" in item and "profile" in item:
+        raise InputError(f"{where}: give the follower's 'law' or the cam's 'profile', not both")
+    if "law" not in item and "profile" not in item:
+        raise InputError(f"{where}: a cam pair needs its follower's 'law' (rows [law, degrees, rise] over one turn) or "
+                         "its cam's 'profile' (points [x, y], or a CSV file of them) with the follower's 'face'")
     cam, follower = (str(x) for x in item["links"])
     on_cam_carrier = {x for j in joints if j.kind == "R" and cam in j.links for x in j.links} - {cam}
     sliding = any(j.kind == "P" and follower in j.links and set(j.links) & on_cam_carrier for j in joints)
+    phase = to_rad(_num(item.get("phase", 0.0), f"{where}.phase"))
+    carrier = str(item["carrier"]) if "carrier" in item else None
+    at = _xy(item["at"], f"{where}.at")
+    if "profile" in item:
+        law = _profile_from(item, where, joints, (cam, follower), carrier, sliding, source)
+        return CamPair(str(item["name"]), (cam, follower), at, law, phase, carrier)
+    extra = PROFILE_KEYS & set(item)
+    if extra:
+        raise InputError(f"{where}: {sorted(extra)} describe a cam given by its 'profile'; this pair gives a 'law'")
     rows = []
     for k, r in enumerate(read_list(item["law"], f"{where}.law")):
         if not isinstance(r, list) or len(r) not in (2, 3):
@@ -437,9 +458,122 @@ def _cam_from(item, where: str, to_rad, joints) -> CamPair:
         law = Motion.cam(rows)
     except InputError as exc:
         raise InputError(f"{where}.law: {exc}") from None
-    return CamPair(str(item["name"]), (cam, follower), _xy(item["at"], f"{where}.at"), law,
-                   to_rad(_num(item.get("phase", 0.0), f"{where}.phase")),
-                   str(item["carrier"]) if "carrier" in item else None)
+    return CamPair(str(item["name"]), (cam, follower), at, law, phase, carrier)
+
+
+def _profile_from(item, where: str, joints, links, carrier, sliding: bool, source: str) -> CamProfile:
+    """A cam pair's :class:`~domes.model.cams.CamProfile` from its file item: ``profile`` (points ``[x, y]`` or a
+    CSV file of them, relative to the mechanism file), ``face``, ``roller``, ``offset`` (translating) or ``arm``
+    (oscillating), ``base_radius`` and ``profile_direction`` (``ccw`` or ``cw``); an oscillating follower's pivot
+    distance from the drawn joints."""
+    cam, follower = links
+    if "face" not in item:
+        raise InputError(f"{where}: a cam pair given by its 'profile' needs its follower's 'face': "
+                         f"{', '.join(FACES)}")
+    if item["face"] not in FACES:
+        raise InputError(f"{where}.face: unknown face {shown(item['face'])}; one of {', '.join(FACES)}")
+    value = item["profile"]
+    if isinstance(value, str):
+        points, here = _profile_csv(value, where, source)
+    else:
+        here = f"{where}.profile"
+        rows = read_list(value, here)
+        if len(rows) > MAX_POINTS:
+            raise InputError(f"{here}: {len(rows):,} points; at most {MAX_POINTS:,}")
+        points = tuple(_xy(r, f"{here}[{k}]") for k, r in enumerate(rows))
+    try:
+        profile_points(points)
+    except InputError as exc:
+        raise InputError(f"{here}: {exc}") from None
+    kind = "translating" if sliding else "oscillating"
+    wrong = ("arm",) if sliding else ("offset",)
+    if wrong[0] in item:
+        raise InputError(f"{where}.{wrong[0]}: the follower is {kind}; it has "
+                         f"{'an offset' if sliding else 'an arm'}, not {'an arm' if sliding else 'an offset'}")
+    pivot = 0.0
+    if not sliding:
+        found = [(c, j, k) for j in joints if j.kind == "R" and cam in j.links
+                 for c in set(j.links) - {cam} if carrier is None or c == carrier
+                 for k in joints if k.kind == "R" and set(k.links) == {follower, c}]
+        if len(found) != 1:
+            raise InputError(f"{where}: the follower {follower!r} must slide (P) or turn (R) on one link the cam "
+                             f"{cam!r} turns on" + (f"; {len(found)} could carry it: name one with 'carrier'"
+                                                     if found else ""))
+        pivot = math.dist(found[0][1].at, found[0][2].at)
+    direction = item.get("profile_direction", "ccw")
+    if direction not in ("ccw", "cw"):
+        raise InputError(f"{where}.profile_direction: 'ccw' or 'cw' (the cam's turning its profile was designed for), "
+                         f"got {shown(direction)}")
+    base = _num(item["base_radius"], f"{where}.base_radius", LARGEST) if "base_radius" in item else None
+    try:
+        return CamProfile(points, kind, str(item["face"]),
+                          roller=_num(item.get("roller", 0.0), f"{where}.roller", LARGEST),
+                          offset=_num(item.get("offset", 0.0), f"{where}.offset", LARGEST), pivot=pivot,
+                          arm=_num(item.get("arm", 0.0), f"{where}.arm", LARGEST), base_radius=base,
+                          direction=1 if direction == "ccw" else -1)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+
+
+def _profile_csv(name: str, where: str, source: str) -> tuple[tuple, str]:
+    """A profile's points from a CSV file (``domes cam --format csv``'s, by its ``x`` and ``y`` columns; or rows of
+    ``x, y``; ``#`` comments), its path relative to the mechanism file ``source``."""
+    folder = Path(source).parent if source and not source.startswith("<") else Path(".")
+    path = Path(name) if Path(name).is_absolute() else folder / name
+    here = f"{where}.profile ({path})"
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{here}: cannot read the file: {getattr(exc, 'strerror', None) or exc}") from None
+    points, cols = [], None
+    for n, line in enumerate(text.splitlines(), start=1):
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        cells = [c.strip() for c in (line.split(",") if "," in line else line.split())]
+        if cols is None and not points:
+            try:
+                [float(c) for c in cells]
+            except ValueError:
+                names = [c.lower() for c in cells]
+                if "x" not in names or "y" not in names:
+                    raise InputError(f"{here}: line {n}: a header must name the columns 'x' and 'y', got "
+                                     f"{shown(line)}") from None
+                cols = (names.index("x"), names.index("y"))
+                continue
+        if cols is None and len(cells) != 2:
+            raise InputError(f"{here}: line {n}: expected 'x, y' (or a header naming columns x and y), got "
+                             f"{shown(line)}")
+        if cols is not None and len(cells) <= max(cols):
+            raise InputError(f"{here}: line {n}: {len(cells)} columns, the header has more")
+        xy = [cells[i] for i in (cols or (0, 1))]
+        try:
+            x, y = (float(c) for c in xy)
+        except ValueError:
+            raise InputError(f"{here}: line {n}: expected numbers x, y, got {shown(', '.join(xy))}") from None
+        if not (math.isfinite(x) and math.isfinite(y) and max(abs(x), abs(y)) <= LARGEST):
+            raise InputError(f"{here}: line {n}: x and y must be finite numbers at most {LARGEST:g} in size")
+        points.append((x, y))
+        if len(points) > MAX_POINTS:
+            raise InputError(f"{here}: more than {MAX_POINTS:,} points")
+    return tuple(points), here
+
+
+def _profile_dict(p: CamProfile) -> dict:
+    """A profile cam pair's file keys (its points written inline, so the file stands alone)."""
+    out = {"profile": [list(xy) for xy in p.points], "face": p.face}
+    if p.face == "roller":
+        out["roller"] = p.roller
+    if p.kind == "translating":
+        if p.offset:
+            out["offset"] = p.offset
+    else:
+        out["arm"] = p.arm
+    if p.base_radius is not None:
+        out["base_radius"] = p.base_radius
+    if p.direction == -1:
+        out["profile_direction"] = "cw"
+    return out
 
 
 # -- file format ------------------------------------------------------------------

@@ -34,7 +34,9 @@ from functools import cached_property
 from itertools import combinations
 
 from domes.errors import InputError
+from domes.model.cams import CamProfile
 from domes.model.mechanism import Joint, Mechanism
+from domes.motion import camcontact  # noqa: F401  (a cam pair given by its profile is followed by its contact)
 from domes.motion.planar.units import rp2_unit, rr_unit
 
 KNOWN = "<known>"
@@ -518,7 +520,13 @@ def _cam_ties(mech: Mechanism, contacts, rotations: dict, input_vars: dict, draw
                              "already fixed by another pair")
         if var in {v for v, _ in turn.terms}:
             raise InputError(f"{where}: the cam's turn depends on its own follower")
-        out[var] = CamTie(c.pair.law, c.pair.phase, turn, base, c.sign)
+        law = c.pair.law
+        if isinstance(law, CamProfile):                     # the contact's law, built once per profile
+            try:
+                law = law.law
+            except InputError as exc:
+                raise InputError(f"{where}: {exc}") from None
+        out[var] = CamTie(law, c.pair.phase, turn, base, c.sign)
     return out
 
 
