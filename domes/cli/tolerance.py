@@ -14,6 +14,17 @@
 ...
 #   its σ over first order's: ...: the first-order estimate is enough (within 5% of Monte Carlo)
 0
+
+Joint clearances (:mod:`domes.design.clearance`), alone or with the tolerances:
+
+>>> main(["tolerance", path, "--output", "angle:rocker", "--sweep", "0:90:90", "--clearance-all", "1e-3",
+...       "--samples", "20000"])    # doctest: +ELLIPSIS
+# crank-rocker four-bar: angle:rocker (deg) at 2 input values of A (deg); 7 dimensions, 4 clearances (contact ...
+...
+    clearance:B          file units            0        0.001 ...
+...
+#   its σ over first order's: ...: the first-order estimate is enough (within 5% of Monte Carlo)
+0
 """
 
 from __future__ import annotations
@@ -25,6 +36,7 @@ import numpy as np
 
 from domes.cli.common import parallel_options, progress_printer, write_document
 from domes.cli.kinematics import parse_sweep
+from domes.design import clearance as play
 from domes.design.tolerance import (
     DISTRIBUTIONS,
     MAX_INPUTS,
@@ -60,12 +72,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--sweep", default="0:360:10", metavar="START:STOP:STEP",
                    help="input values (degrees for an R input; default 0:360:10, the stop left out when it is a "
                    "full turn)")
-    band = p.add_mutually_exclusive_group(required=True)
-    band.add_argument("--tolerance", type=float, metavar="T", help="± T on every length and position (file units)")
+    band = p.add_mutually_exclusive_group()
+    band.add_argument("--tolerance", type=float, metavar="T",
+                      help="± T on every length and position (file units); one of --tolerance, --relative or a "
+                      "clearance is required")
     band.add_argument("--relative", type=float, metavar="R",
                       help="± R times each link length (positions: times the mechanism's size)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=T",
                    help="the tolerance of one dimension (names as listed; angles in degrees), repeatable")
+    p.add_argument("--clearance", action="append", default=[], metavar="JOINT=C",
+                   help="the radial clearance of one revolute joint (file units; over --clearance-all), repeatable")
+    p.add_argument("--clearance-all", type=float, metavar="C",
+                   help="the radial clearance of every revolute joint (file units): the pin rests on its hole's wall "
+                   "in a random direction (contact mode); its effect is added to the tolerances'")
     p.add_argument("--distribution", choices=DISTRIBUTIONS, default="normal",
                    help="normal: σ = T/3 (default); uniform: anywhere within ± T")
     p.add_argument("--samples", type=int, default=100_000, help="Monte Carlo samples (default 100000; 0: first order only)")
@@ -77,7 +96,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="suggest tolerances that keep the output's 3σ (uniform: worst case) within ACCURACY "
                    "(degrees for an angle)")
     p.add_argument("--scan", action="store_true",
-                   help="compare first order and Monte Carlo with the tolerances 1, 10, 100 and 1000 times as large")
+                   help="compare first order and Monte Carlo with the tolerances (and clearances) 1, 10, 100 and 1000 times "
+                   "as large")
     p.add_argument("--format", choices=("text", "csv", "json", "html"), default="text",
                    help="text (default), csv (a row per input), json (everything), or an html page with plots")
     parallel_options(p, "run the Monte Carlo batches")
@@ -87,7 +107,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _overrides(items: list[str]) -> dict:
+def _overrides(items: list[str], option: str = "--set", example: str = "NAME=TOLERANCE (e.g. crank:A-B=0.001)") -> dict:
     out = {}
     for item in items:
         name, sep, value = item.rpartition("=")
@@ -96,7 +116,7 @@ def _overrides(items: list[str]) -> dict:
         except ValueError:
             name = ""
         if not sep or not name:
-            raise InputError(f"--set: expected NAME=TOLERANCE (e.g. crank:A-B=0.001), got {item!r}")
+            raise InputError(f"{option}: expected {example}, got {item!r}")
     return out
 
 
@@ -121,28 +141,53 @@ def run(args: argparse.Namespace) -> int:
     if angular and math.isclose(stop - start, 2 * math.pi) and count > 1:
         inputs = inputs[:-1]                                   # a full turn: 360 is 0 again
     overrides = _overrides(args.set)
+    played = _overrides(args.clearance, "--clearance", "JOINT=CLEARANCE (e.g. B=0.001)")
+    if args.tolerance is None and args.relative is None:
+        if not played and args.clearance_all is None:
+            raise InputError("give the tolerances (--tolerance T or --relative R), the clearances (--clearance JOINT=C "
+                             "or --clearance-all C), or both")
+        args.tolerance = 0.0                                   # clearances only
     tol = Tolerancing(mech, args.output, inputs, tolerance=args.tolerance, relative=args.relative)
     if overrides:                                              # angles are given in degrees, as shown
         kinds = {d.name: d.kind for d in tol.dimensions}
         overrides = {k: math.radians(v) if kinds.get(k) == "angle" else v for k, v in overrides.items()}
         tol = Tolerancing(mech, args.output, inputs, tolerance=args.tolerance, relative=args.relative,
                           tolerances=overrides)
+    cl = play.Clearances(tol, played, args.clearance_all) if played or args.clearance_all is not None else None
+    if cl is not None and not len(cl):
+        cl = None                                              # every clearance 0: tolerances only
+    if cl is None and not np.any(tol.bands > 0):
+        raise InputError("nothing varies: every tolerance is 0 and no joint has a clearance; give --tolerance T, "
+                         "--relative R, --clearance JOINT=C or --clearance-all C")
     first = sensitivity(tol, args.distribution)
+    total = play.budget(cl, args.distribution, first) if cl is not None else None
     scale = math.degrees(1.0) if args.output.startswith("angle:") else 1.0
-    allocated = first.allocate(args.allocate / scale) if args.allocate is not None else None
+    allocated = None
+    if args.allocate is not None:
+        accuracy = args.allocate / scale
+        if total is not None and math.isfinite(accuracy) and accuracy > 0:   # the clearances' part first (worst input)
+            taken = (np.nanmax(total.clearance_worst) if args.distribution == "uniform"
+                     else 3 * np.nanmax(total.clearance_std))
+            if not accuracy > taken:
+                raise InputError(f"--allocate {args.allocate:g}: the clearances alone take {taken * scale:.4g} "
+                                 f"({'worst case' if args.distribution == 'uniform' else '3σ'}); ask for more or give "
+                                 "smaller clearances")
+            accuracy = accuracy - taken if args.distribution == "uniform" else math.sqrt(accuracy ** 2 - taken ** 2)
+        allocated = first.allocate(accuracy)
     if args.spec is not None and not (math.isfinite(args.spec) and args.spec > 0):
         raise InputError(f"--spec must be a positive number (the largest error accepted), got {args.spec}")
     mc = scan = None
     with executor(args.workers, args.scheduler) as run_on:
         where = None if isinstance(run_on, InProcess) else run_on
         if args.samples >= 2:
-            mc = monte_carlo(tol, args.samples, args.seed, args.distribution, executor=where,
-                             progress=progress_printer(args.progress),
-                             spec=None if args.spec is None else args.spec / scale)
+            sample = play.monte_carlo if cl is not None else monte_carlo      # with the clearances, or without
+            mc = sample(tol if cl is None else cl, args.samples, args.seed, args.distribution, executor=where,
+                        progress=progress_printer(args.progress), spec=None if args.spec is None else args.spec / scale)
         if args.scan:
-            scan = compare(tol, samples=min(args.samples, 20_000) or 20_000, seed=args.seed,
-                           distribution=args.distribution, executor=where)
-    doc = _document(args, tol, first, mc, scan, allocated, scale, joint, angular)
+            scales = play.compare if cl is not None else compare
+            scan = scales(tol if cl is None else cl, (1.0, 10.0, 100.0, 1000.0), min(args.samples, 20_000) or 20_000,
+                          args.seed, args.distribution, executor=where)
+    doc = _document(args, tol, first, mc, scan, allocated, scale, joint, angular, total)
     write_document(doc, args.format, html=_html, rows=_rows, text=_text)
     return 0
 
@@ -160,27 +205,44 @@ def _rows(doc: dict):
         yield [row[h] for h in header]
 
 
-def _document(args, tol, first, mc, scan, allocated, scale, joint, angular) -> dict:
+def _document(args, tol, first, mc, scan, allocated, scale, joint, angular, total=None) -> dict:
     unit = "deg" if scale != 1.0 else "length"
     dims = []
     slope = largest(np.abs(first.gradient), axis=(0, 1))
+    share = first.share if total is None else total.share
     for k, d in enumerate(tol.dimensions):
         row = {"name": d.name, "kind": d.kind, "nominal": d.nominal if d.kind != "angle" else math.degrees(d.nominal),
                "tolerance": d.tolerance if d.kind != "angle" else math.degrees(d.tolerance),
-               "share": float(first.share[k]),
+               "share": float(share[k]),
                "largest_derivative": float(slope[k] * scale * (math.radians(1.0) if d.kind == "angle" else 1.0))}
         if allocated is not None:
             row["allocated"] = float(allocated[k]) if d.kind != "angle" else math.degrees(allocated[k])
         dims.append(row)
+    if total is not None:                                      # each clearance beside the dimensions
+        for k, c in enumerate(total.clearances):
+            row = {"name": play.PREFIX + c.joint, "kind": "clearance", "nominal": 0.0, "tolerance": c.clearance,
+                   "share": float(share[len(tol.dimensions) + k]),
+                   "largest_derivative": float(total.largest[k] * scale), "carrier": c.carrier}
+            if allocated is not None:
+                row["allocated"] = None
+            dims.append(row)
     dims.sort(key=lambda r: -r["share"])
+    worst, std = (first.worst, first.std) if total is None else (total.worst, total.std)
     rows = []
     for c, col in enumerate(tol.columns):
         for n, q in enumerate(tol.inputs):
             row = {"column": col, "input": math.degrees(q) if angular else float(q),
-                   "nominal": float(first.nominal[c, n] * scale), "worst_case": float(first.worst[c, n] * scale),
-                   "three_sigma_first_order": float(3 * first.std[c, n] * scale),
+                   "nominal": float(first.nominal[c, n] * scale), "worst_case": float(worst[c, n] * scale),
+                   "three_sigma_first_order": float(3 * std[c, n] * scale),
                    "three_sigma_second_order": float(3 * first.second[c, n] * scale),
                    "first_order_valid": not first.notes[n], "first_order_note": first.notes[n]}
+            if total is not None:                              # the budget's parts; second order: tolerances only
+                row.update({"worst_case_tolerances": float(first.worst[c, n] * scale),
+                            "worst_case_clearances": float(total.clearance_worst[c, n] * scale),
+                            "three_sigma_tolerances": float(3 * first.std[c, n] * scale),
+                            "three_sigma_clearances": float(3 * total.clearance_std[c, n] * scale),
+                            "three_sigma_second_order": float(3 * math.hypot(first.second[c, n],
+                                                                             total.clearance_std[c, n]) * scale)})
             if mc is not None:
                 row.update({"three_sigma_monte_carlo": float(3 * mc.std[c, n] * scale),
                             "three_sigma_monte_carlo_error": float(3 * mc.std_error[c, n] * scale),
@@ -189,12 +251,15 @@ def _document(args, tol, first, mc, scan, allocated, scale, joint, angular) -> d
             rows.append(row)
     doc = {"mechanism": tol.mech.name, "file": args.file, "output": tol.output, "unit": unit, "input": joint,
            "input_unit": "deg" if angular else "length", "distribution": args.distribution,
-           "dimensions": dims, "inputs": rows, "first_order": first.message,
+           "dimensions": dims, "inputs": rows, "first_order": first.message if total is None else total.message,
            "first_order_valid": bool(first.valid.all()), "first_order_not_valid": first.not_valid,
            "ignored": list(tol.ignored)}
+    if total is not None:
+        doc["clearances"] = {"model": play.MODEL, "joints": [{"joint": c.joint, "clearance": c.clearance,
+                                                             "carrier": c.carrier} for c in total.clearances]}
     if mc is not None:
         with np.errstate(invalid="ignore", divide="ignore"):    # no spread at all: no ratio
-            ratio = mc.std / first.std
+            ratio = mc.std / std
         ok = np.isfinite(ratio)
         within = bool(ok.any() and np.all(np.abs(ratio[ok] - 1) <= AGREE))
         doc["monte_carlo"] = {"samples": mc.samples, "seed": mc.seed, "batches": mc.batches, "failed": mc.failed,
@@ -245,9 +310,11 @@ def _cell(value, word: str) -> str:
 def _text(out, doc) -> None:
     unit, of_input = LABEL[doc["unit"]], LABEL[doc["input_unit"]]
     rows = doc["inputs"]
+    played = sum(d["kind"] == "clearance" for d in doc["dimensions"])
     out.write(f"# {doc['mechanism']}: {doc['output']} ({unit}) at {len({r['input'] for r in rows})} input values of "
-              f"{doc['input']} ({of_input}); {len(doc['dimensions'])} dimensions, {doc['distribution']} "
-              f"({'σ = tolerance/3' if doc['distribution'] == 'normal' else 'within ± tolerance'})\n")
+              f"{doc['input']} ({of_input}); {len(doc['dimensions']) - played} dimensions, "
+              + (f"{played} clearances (contact mode: |e| = clearance, any direction), " if played else "")
+              + f"{doc['distribution']} ({'σ = tolerance/3' if doc['distribution'] == 'normal' else 'within ± tolerance'})\n")
     alloc = "allocate" in doc
     out.write((f"#   {'dimension':<20s} {'unit':>10s} {'nominal':>12s} {'± tolerance':>12s} {'share':>7s} "
                f"{'max |dy/dd|':>12s} {'(unit)':<9s}" + (f" {'suggested ±':>12s}" if alloc else "")).rstrip() + "\n")
@@ -271,6 +338,10 @@ def _text(out, doc) -> None:
         note = f"   <- first order not valid: {SHORT[r['first_order_note']]}" if r["first_order_note"] else ""
         out.write(" " + " ".join(cells) + (f"   {r['column']}" if columns else "") + note + "\n")
     out.write(f"# first order: {doc['first_order']}\n")
+    if "clearances" in doc:
+        carried = ", ".join(f"{c['joint']} on {c['carrier']}" for c in doc["clearances"]["joints"])
+        out.write(f"#   clearances (each offset carried by a link: {carried}) add to the tolerances: worst cases "
+                  "sum, σ root-sum-square; worst case and 3σ first above are the two together\n")
     if doc["ignored"]:
         out.write(f"#   {', '.join(doc['ignored'])}: not needed for {doc['output']}, not solved (cannot make a sample "
                   "fail)\n")
@@ -283,6 +354,8 @@ def _text(out, doc) -> None:
         else:
             out.write(f"#   its σ over first order's: {m['ratio_min']:.4f} .. {m['ratio_max']:.4f}: {m['verdict']}\n")
     if "scan" in doc:
+        if "clearances" in doc:
+            out.write("# tolerances and clearances scaled together:\n")
         out.write(f"# tolerances scaled: {'scale':>6s} {'σ first':>12s} {'σ Monte C.':>12s} {'ratio':>8s} {'failed':>7s}\n")
         out.write(f"#                    {'×':>6s} {unit:>12s} {unit:>12s} {'×':>8s} {'samples':>7s}\n")
         for s in doc["scan"]:
@@ -297,4 +370,5 @@ def _text(out, doc) -> None:
                       + (f" ({', '.join(why)})" if why else "") + "\n")
     if alloc:
         out.write(f"# suggested tolerances keep the {doc['allocate']['meaning']} within {doc['allocate']['accuracy']:g} "
-                  f"{unit}, each dimension taking an equal part at its worst input\n")
+                  f"{unit}, each dimension taking an equal part at its worst input"
+                  + (" of what the clearances leave" if "clearances" in doc else "") + "\n")

@@ -107,7 +107,8 @@ class Tolerancing:
     """A mechanism, the output watched and its input values, with the dimensions and their tolerances.
 
     ``tolerance`` is one ``±`` band for every length and position (lengths
-    of the mechanism's unit; angles get ``tolerance / size`` rad), or
+    of the mechanism's unit; angles get ``tolerance / size`` rad; 0 for
+    none, as for joint clearances alone: :mod:`domes.design.clearance`), or
     ``relative`` a fraction of each length (positions and offsets: of the
     mechanism's size); ``tolerances`` overrides named dimensions.
     """
@@ -127,9 +128,10 @@ class Tolerancing:
         self._compile()
         if (tolerance is None) == (relative is None):
             raise InputError("tolerance: give either an absolute tolerance or a relative one")
-        for name, value in [("tolerance", tolerance), ("relative", relative)]:
-            if value is not None and not (math.isfinite(value) and value > 0):
-                raise InputError(f"tolerance: {name} must be a positive number, got {value!r}")
+        if tolerance is not None and not (math.isfinite(tolerance) and tolerance >= 0):   # 0: none (clearances only)
+            raise InputError(f"tolerance: tolerance must be a number >= 0, got {tolerance!r}")
+        if relative is not None and not (math.isfinite(relative) and relative > 0):
+            raise InputError(f"tolerance: relative must be a positive number, got {relative!r}")
         if relative is not None and relative > LARGEST:
             raise InputError(f"tolerance: relative must be at most {LARGEST:g} (a fraction of each length), got "
                              f"{relative:g}: a first-order estimate means nothing there")
