@@ -24,6 +24,7 @@ from domes.typesynth.atlas import (
     clamping_joints,
     forecast,
 )
+from domes.typesynth.spatial import spatial_loops
 
 #: Atlases from this many links on are very large: ask before building them.
 LARGE_ATLAS_LINKS = 14
@@ -37,7 +38,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="every non-isomorphic, non-degenerate chain with N links and DOF F",
         description="The unlabelled graph generator: every non-isomorphic kinematic chain of planar motion "
         "with simple revolute joints, the given links and DOF, and no rigid or over-constrained proper "
-        "sub-chain. DOF 0 gives the basic chains of Table 3-4 (with K). A chain whose graph is not planar "
+        "sub-chain (--spatial: single-loop spatial chains instead). DOF 0 gives the basic chains of Table 3-4 (with K). A chain whose graph is not planar "
         "(it cannot be drawn without crossings; 11 of the 230 ten-bar chains) is marked 'non-planar graph'. "
         "--clamping lists the chains of clamps instead (seed 002, §3-3-I (4)): any DOF, W <= 0 included, immobile "
         "sub-chains admitted (each marked with its links).",
@@ -52,6 +53,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="clamping chains (seed 002, §3-3-I (4), Fig. 3-23): admit immobile (rigid or over-constrained) "
                    "sub-chains and any DOF, W <= 0 included; every simple graph of the size, each link with 2+ joints")
     p.add_argument("--count", action="store_true", help="print only the number of chains")
+    p.add_argument("--spatial", nargs="?", const="RPHCS", metavar="TYPES",
+                   help="single-loop spatial chains (λ = 6) instead: joints from TYPES (default RPHCS: revolute, "
+                   "prismatic, helical, cylindric, spherical), DOF by Kutzbach less the idle spins of links held by "
+                   "two S joints, up to rotation and reflection of the loop (docs/spatial.md); text and json")
     p.add_argument("--active", action="store_true",
                    help="with each chain, its sets of F joints (up to symmetry) that can be active pairs together "
                    "and the DOF type each gives: full, partial or fractionated (seed 002, §3-2-I.5); text and json")
@@ -138,6 +143,8 @@ def _active_text(found: ActiveSets) -> str:
 
 
 def run_chains(args: argparse.Namespace) -> int:
+    if args.spatial is not None:
+        return _run_spatial(args)
     _check_active(args)
     if args.dof < 0 and not args.clamping:
         raise InputError(f"--dof must be >= 0 for chains without immobile sub-chains, got {args.dof}; chains of "
@@ -178,6 +185,38 @@ def run_chains(args: argparse.Namespace) -> int:
         print(f"{len(graphs)} chains of {links} links, DOF {args.dof}: {job.path / f'chains-n{links}-F{args.dof}{kind}.g6'}")
         return 0
     return _write_atlas(args, [Chain(n, edges) for n, edges in graphs], links, joints, loops)
+
+
+def _run_spatial(args: argparse.Namespace) -> int:
+    """``domes chains --spatial``: the single-loop spatial chains of ``domes.typesynth.spatial``."""
+    clash = ("--loops" if args.loops is not None else "--clamping" if args.clamping else "--active" if args.active
+             else "--include-fractionated" if args.include_fractionated else "--out" if args.out is not None
+             else f"--format {args.format}" if args.format in ("graph6", "html")
+             else f"--isomorphism {args.isomorphism}" if args.isomorphism != "nauty" else None)
+    if clash:
+        raise InputError(f"--spatial lists single loops, given by --links, as text or json; {clash} is for the "
+                         "planar atlas: leave it out")
+    found = spatial_loops(args.links, args.dof, args.spatial)
+    if args.count:
+        print(len(found))
+        return 0
+    if args.format == "json":
+        json.dump({"space": "spatial", "links": args.links, "joints": args.links, "loops": 1, "dof": args.dof,
+                   "joint_types": found.joint_types, "count": len(found),
+                   "proper": sum(loop.proper for loop in found),
+                   "chains": [{"id": i, **loop.to_dict(), "note": loop.note()} for i, loop in enumerate(found, 1)]},
+                  sys.stdout, indent=1)
+        sys.stdout.write("\n")
+        return 0
+    print(f"# {found.message}")
+    print("# DOF = Kutzbach (Σf − 6) less the idle spins (links held by two S joints); generic: the screw rank with "
+          "the joints in general position")
+    print("# joints: the loop's least reading (R < P < H < C < S) from any link either way round; the RSSR is RRSS")
+    print("#   id  joints     Σf  Kutzbach  idle  DOF  generic  |sym|  note")
+    for i, loop in enumerate(found, 1):
+        print(f"{i:5d}  {loop.joints:<9s}  {loop.freedom:2d}  {loop.kutzbach:8d}  {loop.idle:4d}  {loop.dof:3d}  "
+              f"{loop.generic_dof:7d}  {loop.symmetry:5d}  {loop.note()}".rstrip())
+    return 0
 
 
 def _run_clamping(args: argparse.Namespace, links: int) -> int:

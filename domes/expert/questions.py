@@ -75,11 +75,16 @@ def parse_class(text: str) -> str:
 
 
 def parse_space(text: str) -> int:
+    """λ: 3 for planar, 6 for spatial.
+
+    >>> parse_space("Spatial"), parse_space("3")
+    (6, 3)
+    """
     word = text.strip().lower()
     if word in ("planar", "3"):
         return 3
     if word in ("spatial", "6"):
-        raise InputError("spatial mechanisms (λ = 6) are not generated: the chain atlas is planar; answer planar")
+        return 6
     raise InputError(f"answer planar or spatial, not {text.strip()!r}")
 
 
@@ -246,8 +251,9 @@ HELP = {
                              "ratio >= 1.5'; several separated by ';'. none keeps every mechanism for the motion.",
     "outputs": "How many independent output motions the mechanism delivers (usually 1).",
     "dof": "The degrees of freedom W: how many inputs drive the mechanism (1 for a single motor or cylinder).",
-    "space": "planar (λ = 3): every link moves in one plane; spatial (λ = 6) problems get their numbers of links "
-             "and joints, but the chain atlas is planar.",
+    "space": "planar (λ = 3): every link moves in one plane; spatial (λ = 6): single loops of DOF 1 with R, P, "
+             "H, C and S joints (RSSR, RCCC, ...), each with a frame, an input and an output jointed to it "
+             "(docs/spatial.md).",
     "loops": "Independent loops L: the closed loops of the chain that are independent, L = joints − links + 1. "
              "A four-bar or a slider-crank has 1; a six-bar (Watt, Stephenson) 2; an eight-bar 3. With W the DOF "
              "and revolute or sliding joints, the chain has W + 2L + 1 links and W + 3L joints.",

@@ -15,6 +15,9 @@
    variation fails too, the result (with its rejections) is that of the
    problem as stated.
 
+A spatial problem (λ = 6) of one loop and DOF 1 takes its candidates from
+the single-loop spatial chains instead (:func:`spatial_candidates`).
+
 Gear pairs: the chains are the revolute atlas of DOF ``W − j_G`` with
 ``j_G`` joints typed ``G``; a gear pair removes one DOF where a revolute
 removes two, so these chains stay non-degenerate. Chains whose only rigid
@@ -38,12 +41,13 @@ from domes.knowledge.relevance import RelevanceVector, relevance_vector
 from domes.knowledge.screening import screen
 from domes.language.explain import explain
 from domes.model.labelled import LabelledChain
-from domes.model.mobility import mobility
+from domes.model.mobility import SPATIAL, mobility
 from domes.results import Progress, Result, Status
 from domes.typesynth.atlas import ChainGenerator
 from domes.typesynth.labelling import label_joints
 from domes.typesynth.number import number_synthesis
 from domes.typesynth.regenerate import EmptyStage, regenerate
+from domes.typesynth.spatial import function_generators, spatial_loops
 
 #: How far the design varies the problem when every candidate is eliminated: (extra loops, extra gear pairs).
 VARIATIONS = ((1, 0), (2, 0), (0, 1), (1, 1))
@@ -113,9 +117,12 @@ def candidates_for(problem: ProblemFrame, links: int, joints: int, generator: Ch
 def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None,
              generator: ChainGenerator, progress: Progress | None = None) -> DesignRun:
     numbers = number_synthesis(problem.dof, problem.loops, problem.space, problem.gear_pairs or 0)
-    if problem.space != 3:
-        raise InputError("the chain atlas is planar: spatial (λ = 6) problems get their numbers but no chains")
-    generated = candidates_for(problem, numbers.links, numbers.joints, generator, progress)
+    notes: tuple[str, ...] = ()
+    if problem.space == SPATIAL:
+        generated, note = spatial_candidates(problem)
+        notes = (note,)
+    else:
+        generated = candidates_for(problem, numbers.links, numbers.joints, generator, progress)
     records = [{"id": i, **extra, **chain.to_dict()} for i, (chain, extra) in enumerate(generated, 1)]
     graphs = [chain for chain, _ in generated]
     result = screen(graphs, criteria, problem, relevance=relevance, progress=progress)
@@ -134,7 +141,48 @@ def _attempt(problem: ProblemFrame, criteria, relevance: RelevanceVector | None,
                                                 problem, relevance)
     return DesignRun(
         solved, numbers.links, numbers.joints, tuple(records), tuple(records[i] for i in result.kept_indices),
-        rejected, result.applied, result.emptied_by, (), relax,
+        rejected, result.applied, result.emptied_by, notes, relax,
+    )
+
+
+def spatial_candidates(problem: ProblemFrame) -> tuple[list[tuple[LabelledChain, dict]], str]:
+    """The candidates of a spatial problem (λ = 6) and a note saying what they are.
+
+    A single loop of DOF 1 (``domes.typesynth.spatial``): every loop of 3 to
+    7 links with R, P, H, C and S joints, made a function generator in every
+    way (a frame link, its neighbours the input, jointed by R, P or H, and the
+    output, by R, P, H or C), with as many P joints as the problem's slider
+    pairs. Other spatial problems get no candidate and a note saying why.
+
+    >>> from domes.knowledge.problems import ProblemFrame
+    >>> found, note = spatial_candidates(ProblemFrame("p", "spatial", dof=1, space=6, loops=1, slider_pairs=0))
+    >>> len(found), {"RSSR", "RCCC"} <= {chain.name for chain, _ in found}
+    (406, True)
+    """
+    why = None
+    if problem.loops != 1 or problem.dof != 1:
+        why = (f"spatial type synthesis makes single loops (L = 1) of DOF 1; W = {problem.dof}, L = {problem.loops} "
+               "get no candidate (domes chains --spatial lists single loops of any DOF)")
+    elif problem.gear_pairs:
+        why = f"a spatial loop here has R, P, H, C and S joints, no gear pair; j_G = {problem.gear_pairs} gets no candidate"
+    elif problem.scene:
+        why = f"the scene {problem.scene} regenerates planar chains; a spatial problem takes no scene"
+    if why:
+        return [], why
+    largest = problem.dof + SPATIAL
+    found = []
+    for links in range(3, largest + 1):
+        for gen in function_generators(spatial_loops(links, problem.dof)):
+            if problem.slider_pairs is None or gen.joints.count("P") == problem.slider_pairs:
+                found.append((gen.labelled(), {}))
+    sliders = "any number of" if problem.slider_pairs is None else str(problem.slider_pairs)
+    return found, (
+        f"spatial, one loop: {len(found)} function generators (a frame, the input and the output jointed to it; "
+        f"input joint R, P or H, output joint R, P, H or C) of the single loops of 3 to {largest} links with R, P, "
+        f"H, C and S joints and {sliders} P joint(s), DOF 1 by Kutzbach less the idle spins of links held by two S "
+        f"joints, loops whose joints cannot all move left out (docs/spatial.md); the structure rule's "
+        f"{largest} links hold for one-freedom joints. Screening applies the criteria to the chain's graph, roles "
+        "and joint types (Cyl, Sph, Hel); no criterion of spatial motion is in the knowledge base yet"
     )
 
 
@@ -190,7 +238,7 @@ def design(
     generator = ChainGenerator(progress=progress)
     first = run = _attempt(problem, criteria, relevance, generator, progress)
     notes = []
-    if run.kept or not vary:
+    if run.kept or not vary or problem.space == SPATIAL:  # spatial: single loops only, nothing to vary
         return run
     for extra_loops, extra_gears in VARIATIONS:
         why = (

@@ -6,6 +6,9 @@
    an existing mechanism (:func:`generalize`), and Yan's regeneration under the
    rules of a design scene (:func:`regenerate`).
 
+Spatial chains (λ = 6) of one loop with R, P, H, C, S joints: :func:`spatial_loops`,
+and their function generators (:func:`function_generators`).
+
 >>> number_synthesis(dof=1, loops=2).links, len(chains(links=6, dof=1))
 (6, 2)
 """
@@ -23,10 +26,11 @@ from domes.typesynth.number import (
 )
 from domes.typesynth.regenerate import Candidate, EmptyStage, Regeneration, StageResult, particularize, regenerate
 from domes.typesynth.scene import Particularization, Scene, Stage
+from domes.typesynth.spatial import SpatialLoop, SpatialLoops, function_generators, spatial_loops
 
 __all__ = [
     "Candidate", "ChainGenerator", "EmptyStage", "Generalization", "ISOMORPHISM_METHODS", "LinkAssortment",
     "NumberSynthesis", "Regeneration", "Scene", "Stage", "StageResult", "chain_joints", "chain_loops", "chains",
     "generalize", "label_joints", "link_assortments", "number_synthesis", "Particularization",
-    "particularize", "regenerate",
+    "particularize", "regenerate", "SpatialLoop", "SpatialLoops", "function_generators", "spatial_loops",
 ]

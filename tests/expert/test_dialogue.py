@@ -116,7 +116,7 @@ def test_everything_eliminated_varies_loops_and_gears(casebase):
 
 def test_bad_answers_are_asked_again_with_the_reason(casebase):
     text = (
-        "class: gear box\noutputs: 1\ndof: two\ndof: 1\nspace: spatial\nspace: planar\nloops: 1\n"
+        "class: gear box\noutputs: 1\ndof: two\ndof: 1\nspace: flat\nspace: planar\nloops: 1\n"
         "gear_pairs: 0\nslider_pairs: 1\nnames: none\nscene: nowhere\nscene: none\n"
         "relevance_overrides: +no-such-criterion\nrelevance_overrides: none\n"
         "more_criteria: maybe\nmore_criteria: yes\ncriterion: the swing arm must be adjacent to\n"
@@ -126,7 +126,7 @@ def test_bad_answers_are_asked_again_with_the_reason(casebase):
     outcome, said = run(casebase, text)
     rejected = {e["answer"]: e["rejected"] for e in outcome.exchanges if "rejected" in e}
     assert "expected a whole number" in rejected["two"]
-    assert "planar" in rejected["spatial"]
+    assert "answer planar or spatial" in rejected["flat"]
     assert "no scene 'nowhere'" in rejected["nowhere"]
     assert "no criterion 'no-such-criterion'" in rejected["+no-such-criterion"]
     assert "yes or no" in rejected["maybe"]
@@ -134,6 +134,29 @@ def test_bad_answers_are_asked_again_with_the_reason(casebase):
     assert "not among those kept" in rejected["2 nowhere.json rotatability"]
     assert "is not this candidate" in rejected["1 examples/mechanisms/four-bar.json rotatability"]
     assert outcome.frame is not None and len(outcome.frame.results) == 1  # the slider-crank four-bar
+
+
+SPATIAL = ("class: spatial function generator\noutputs: 1\ndof: 1\nspace: spatial\nloops: 1\ngear_pairs: 0\n"
+           "slider_pairs: 0\nnames: none\nscene: none\nrelevance_overrides: none\nmore_criteria: no\n"
+           "verify: none\nsatisfied: yes\n")
+
+
+def test_a_spatial_problem_gets_single_loop_candidates(casebase):
+    # issue 29: λ = 6 is no longer refused; a one-loop, one-DOF function generator gets the RSSR (seed 001)
+    # and the RCCC (seed 004) among its candidates, each named by its joints from the input to the output
+    from domes.typesynth import function_generators, spatial_loops
+
+    outcome, said = run(casebase, SPATIAL)
+    assert "λ = 6" in said and "spatial, one loop" in said
+    names = [r.get("name") for r in outcome.frame.results]
+    assert {"RSSR", "RCCC"} <= set(names)
+    expected = [g.joints for n in range(3, 8) for g in function_generators(spatial_loops(n, 1)) if "P" not in g.joints]
+    assert names == expected
+    rssr = next(r for r in outcome.frame.results if r.get("name") == "RSSR")
+    assert sorted(j["type"] for j in rssr["joints"]) == ["R", "R", "Sph", "Sph"]
+    # two loops, or a gear pair: no candidate, and the note says why (nothing varied)
+    outcome, said = run(casebase, SPATIAL.replace("loops: 1", "loops: 2").replace("verify: none\n", ""))
+    assert "spatial type synthesis makes single loops (L = 1) of DOF 1" in said and "trying" not in said
 
 
 def test_scripted_answers_must_fit_the_questions(casebase):
