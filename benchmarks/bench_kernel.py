@@ -6,7 +6,9 @@ Run ``python benchmarks/bench_kernel.py``. It prints, in one run:
    order 0 and order 2, all outputs: the median time of ``--repeat`` runs
    in-process, the largest residual, and the error against the 40-digit
    mpmath reference (``bench_kinematics.reference``) at every 100th step;
-   beside it the same sweep (positions) in Pyslvs and pylinkage when they
+   for a mechanism with a class-III or class-IV group also the step-by-step
+   Newton route (timed once) and the largest difference of the two; beside
+   it the same sweep (positions) in Pyslvs and pylinkage when they
    are installed (``benchmarks/peers.py``; a peer that is missing is skipped
    with a note), with their time and error against the same reference;
 2. a batch of ``--mechanisms`` random four-bars × 360 inputs (positions of a
@@ -35,22 +37,33 @@ from peers import PEERS  # noqa: E402
 
 from domes.io.mechanisms import load_mechanism  # noqa: E402
 from domes.motion import CouplerPoint, Input, Joint, Kinematics, Mechanism, batch  # noqa: E402
+from domes.motion.planar.continuation import Continuation  # noqa: E402
+from domes.motion.planar.examples import stephenson_iii  # noqa: E402
+from domes.motion.planar.kernel import iterated  # noqa: E402
 from domes.motion.planar.query import parse_outputs  # noqa: E402
-from domes.motion.planar.sweep import run_sweep  # noqa: E402
+from domes.motion.planar.sweep import _scalar_sweep, run_sweep  # noqa: E402
 
-EXAMPLES = ["four-bar.json", "watt-six-bar.json", "stephenson-six-bar.json"]
+#: Example files, and ``stephenson-iii`` (:func:`~domes.motion.planar.examples.stephenson_iii`, a triad).
+EXAMPLES = ["four-bar.json", "watt-six-bar.json", "stephenson-six-bar.json", "stephenson-iii",
+            "eight-bar-class-iv.json"]
 STEPS = 3600
 #: The joint each example is compared at: one solved last (the far end of the chain of groups).
-FAR_JOINT = {"four-bar.json": "C", "watt-six-bar.json": "f", "stephenson-six-bar.json": "G"}
+FAR_JOINT = {"four-bar.json": "C", "watt-six-bar.json": "f", "stephenson-six-bar.json": "G", "stephenson-iii": "B1",
+             "eight-bar-class-iv.json": "9"}
+
+
+#: The clock of :func:`median_time`: wall time, or (``--clock cpu``) this process's CPU time, which a busy machine
+#: does not inflate as much (it counts every thread of the process).
+CLOCK = time.perf_counter
 
 
 def median_time(fn, repeat):
     fn()
     times = []
     for _ in range(repeat):
-        t = time.perf_counter()
+        t = CLOCK()
         out = fn()
-        times.append(time.perf_counter() - t)
+        times.append(CLOCK() - t)
     return statistics.median(times), out
 
 
@@ -68,14 +81,24 @@ def _reference_points(mech, qs, point, every):
     return out
 
 
+def _unit(mech, column):
+    """The scale of a column: the size (lengths) times the input speed per derivative order."""
+    k = len(column) - len(column.rstrip("'"))
+    return (1.0 if column.startswith("angle") else mech.size) * abs(mech.inputs[0].speed) ** k
+
+
 def _error(points, refs, size):
     return max(math.hypot(points[k][0] - x, points[k][1] - y) for k, (x, y) in refs.items()) / size
 
 
-def sweeps(repeat):
+def example(name):
+    return stephenson_iii() if name == "stephenson-iii" else load_mechanism(str(ROOT / "examples" / "mechanisms" / name))
+
+
+def sweeps(repeat, names=EXAMPLES):
     rows = []
-    for name in EXAMPLES:
-        m = load_mechanism(str(ROOT / "examples" / "mechanisms" / name))
+    for name in names:
+        m = example(name)
         j = m.inputs[0].joint
         q0 = Kinematics(m).drawn_inputs()[j]
         qs = q0 + np.linspace(0.0, 2 * math.pi, STEPS + 1)
@@ -87,6 +110,13 @@ def sweeps(repeat):
             t, sw = median_time(lambda: run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS), repeat)
             pts = np.c_[sw.column(f"point:{point}.x"), sw.column(f"point:{point}.y")]
             rows.append((name, "domes", order, t, sw.max_residual, _error(pts, refs, m.size), len(sw.dead_points)))
+            if iterated(kin):  # the step-by-step Newton route the arrays replace (once: it is slow)
+                cont = Continuation(kin)
+                t, slow = median_time(lambda: _scalar_sweep(kin, cont, list(qs), None), 1)
+                same = max(float(np.nanmax(np.abs(sw.column(c) - slow.column(c)))) / _unit(m, c) for c in sw.columns)
+                pts = np.c_[slow.column(f"point:{point}.x"), slow.column(f"point:{point}.y")]
+                rows.append((name, "domes step by step", order, t, slow.max_residual, _error(pts, refs, m.size),
+                             f"arrays − steps: {same:.1e} of the scale"))
         for peer, fn in PEERS.items():
             try:
                 got = fn(m, qs, point)
@@ -168,16 +198,28 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=7, help="runs per timing (the median is shown)")
     ap.add_argument("--mechanisms", type=int, default=100_000, help="four-bars in the batch")
     ap.add_argument("--peer-sample", type=int, default=200, help="four-bars of the batch timed in each peer")
+    ap.add_argument("--only", help=f"comma-separated examples to sweep (of {', '.join(EXAMPLES)})")
+    ap.add_argument("--no-batch", action="store_true", help="sweeps only")
+    ap.add_argument("--clock", choices=["wall", "cpu"], default="wall", help="time by the wall clock or by the "
+                    "process's CPU time (steadier on a busy machine)")
     args = ap.parse_args(argv)
-    print(f"## Sweeps of {STEPS:,} steps (median of {args.repeat})\n")
+    global CLOCK
+    CLOCK = time.process_time if args.clock == "cpu" else time.perf_counter
+    names = args.only.split(",") if args.only else EXAMPLES
+    unknown = sorted(set(names) - set(EXAMPLES))
+    if unknown:
+        ap.error(f"--only: {unknown} are not examples; choose among {EXAMPLES}")
+    print(f"## Sweeps of {STEPS:,} steps (median of {args.repeat}, {args.clock} time)\n")
     print("| mechanism | library | order | time [ms] | max residual | position error / size | dead points |")
     print("|---|---|---:|---:|---:|---:|---|")
-    for name, lib, order, t, res, err, dead in sweeps(args.repeat):
+    for name, lib, order, t, res, err, dead in sweeps(args.repeat, names):
         if t is None:
             print(f"| {name} | {lib} | | | | | skipped: {dead} |")
         else:
             print(f"| {name} | {lib} | {order} | {t * 1e3:.1f} | {'' if res is None else f'{res:.1e}'} | "
                   f"{err:.1e} | {'' if dead is None else dead} |")
+    if args.no_batch:
+        return
     print(f"\n## Batch: {args.mechanisms:,} random four-bars × 360 inputs, a coupler point (median of "
           f"{max(1, args.repeat // 3)})\n")
     print("| library | mechanisms | time [s] | positions/s | position error / size | note |")

@@ -60,7 +60,7 @@ from scipy.optimize import least_squares
 
 from domes.errors import InputError
 from domes.model.mechanism import CouplerPoint, Mechanism, from_labelled
-from domes.motion.planar.kernel import Program
+from domes.motion.planar.kernel import Program, iterated
 from domes.motion.planar.query import Kinematics
 from domes.motion.planar.sweep import sweep
 from domes.results import Listing, Progress, Status, Ticker
@@ -328,7 +328,12 @@ class Model:
             outputs += [f"point:{e}" for e in self.ends]
         if self.guided:
             outputs.append(f"slide:{self.slider}")
-        self.program = Program(Kinematics(self.template, outputs, order=1))
+        kin = Kinematics(self.template, outputs, order=1)
+        newton = iterated(kin)
+        if newton:  # their equations come from the drawing: a batch of other layouts has none to evaluate
+            raise InputError(f"{name}: the groups {newton} are solved by Newton's method on the drawing's own loop "
+                             "equations; layouts are dimensioned in batches of closed-form groups (dyads) only")
+        self.program = Program(kin)
         self.ts = task.rotations()
         self.xs = task.xs()
         self.active = task.active()

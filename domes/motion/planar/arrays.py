@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from domes.motion.planar.groups import Loops
 from domes.motion.planar.kernel import Program, cam_rates
 from domes.motion.planar.query import JUMP, sign_key
 from domes.motion.planar.structure import CamTie, Rotation, evaluate
@@ -140,11 +141,16 @@ def _stack(kin, g, values, rates=None):
     return A, J, loops
 
 
+#: Condition numbers up to this are taken from ``JᵀJ`` (their relative error is about ``ε·cond²``).
+SQUARED = 1e3
+
+
 def _condition(J):
     """2-norm condition numbers of a stack of matrices (``inf`` where singular); 2 × 2 in closed form.
 
     For 2 × 2, ``σ₁² = (F + √(F² − 4D²))/2`` with ``F`` the squared Frobenius
-    norm and ``D`` the determinant, and ``cond = σ₁/σ₂ = σ₁²/|D|``.
+    norm and ``D`` the determinant, and ``cond = σ₁/σ₂ = σ₁²/|D|``; larger
+    ones from the extreme eigenvalues of ``JᵀJ`` (by SVD above :data:`SQUARED`).
 
     >>> float(_condition(np.array([[[3.0, 0.0], [0.0, 1e-3]]]))[0])
     3000.0
@@ -155,8 +161,12 @@ def _condition(J):
             D = np.abs(J[..., 0, 0] * J[..., 1, 1] - J[..., 0, 1] * J[..., 1, 0])
             s1 = 0.5 * (F + np.sqrt(np.maximum(F * F - 4 * D * D, 0.0)))
             cond = np.maximum(s1 / D, 1.0)
-        else:
-            cond = np.linalg.cond(J)
+        else:  # from the eigenvalues of JᵀJ (squared singular values); by SVD where that squares away digits
+            w = np.linalg.eigvalsh(np.matmul(np.swapaxes(J, -1, -2), J))
+            cond = np.sqrt(w[..., -1] / w[..., 0])
+            redo = ~(cond <= SQUARED)
+            if np.any(redo):
+                cond[redo] = np.linalg.cond(J[redo])
     return np.where(np.isfinite(cond), cond, np.inf)
 
 
@@ -201,6 +211,10 @@ def motion_many(kin, values: dict, order: int):
         _derive(kin, values, rates, accels, order)
         if not g.unknowns:
             continue
+        got = None if g.index in kin.plans else _compiled(kin, g, values, rates, accels, order, n)
+        if got is not None:
+            residual, condition = np.maximum(residual, got[0]), np.maximum(condition, got[1])
+            continue
         A, J, loops = _stack(kin, g, values)
         residual = np.maximum(residual, np.max(np.abs(A), axis=-1) / kin.size)
         scale = np.array([1.0 / kin.size if v.startswith("rot:") else 1.0 for v in g.unknowns])
@@ -222,6 +236,40 @@ def motion_many(kin, values: dict, order: int):
         accels.update({v: sol[:, k] for k, v in enumerate(g.unknowns)})
     _derive(kin, values, rates, accels, order)
     return rates, accels, residual, condition
+
+
+def _compiled(kin, g, values, rates, accels, order, n):
+    """A group solved by Newton's method, from its compiled loop equations (:class:`~domes.motion.planar.groups.Loops`:
+    the same equations, a few array operations): rates and accelerations as :func:`motion_many`, and ``(residuals,
+    condition numbers)``; None (nothing done) when a variable it reads has no rate here."""
+    loops = Loops(kin, g)
+    if order and not all(v in rates and (order < 2 or v in accels) for v in loops.external):
+        return None
+    U = len(loops.unknowns)
+    names = loops.unknowns + loops.external
+    X = np.stack([np.broadcast_to(np.asarray(values[v], dtype=float), (n,)) for v in names], axis=1)
+    A, J = loops.system(X)
+    scale = np.array([1.0 / kin.size if v.startswith("rot:") else 1.0 for v in g.unknowns])
+    cond = _condition(J[:, :, :U] * scale)
+    out = (np.max(np.abs(A), axis=-1) / kin.size, cond)
+    if order == 0:
+        return out
+    ok = np.isfinite(cond)
+    safe = np.where(ok[:, None, None], J[:, :, :U], np.eye(U))
+
+    def given(store):
+        return np.stack([np.broadcast_to(np.asarray(store[v], dtype=float), (n,)) for v in loops.external], axis=1)
+
+    sol = _solve(safe, -np.einsum("nrv,nv->nr", J[:, :, U:], given(rates)))
+    sol[~ok] = np.nan
+    rates.update({v: sol[:, k] for k, v in enumerate(loops.unknowns)})
+    if order == 1:
+        return out
+    Xd = np.concatenate((sol, given(rates)), axis=1)
+    sol = _solve(safe, -np.einsum("nrv,nv->nr", J[:, :, U:], given(accels)) - loops.second(X, Xd))
+    sol[~ok] = np.nan
+    accels.update({v: sol[:, k] for k, v in enumerate(loops.unknowns)})
+    return out
 
 
 def _derive(kin, values, rates, accels, order):

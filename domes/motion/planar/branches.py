@@ -275,7 +275,8 @@ class Walker:
         """``(input, within, is_zero)`` of the root's minimum in ``(xs[k-1], xs[k+1])``, or a :class:`Gap` where a
         sample there does not assemble (or would jump)."""
         r = run.roots[g.index]
-        slope = max(abs(r[k] - r[k - 1]) / abs(xs[k] - xs[k - 1]), abs(r[k + 1] - r[k]) / abs(xs[k + 1] - xs[k]))
+        with np.errstate(divide="ignore", invalid="ignore"):  # a repeated input (a zero step): an infinite slope
+            slope = max(abs(r[k] - r[k - 1]) / abs(xs[k] - xs[k - 1]), abs(r[k + 1] - r[k]) / abs(xs[k + 1] - xs[k]))
         lo, hi, base = xs[k - 1], xs[k + 1], run.state(k - 1)
         q, rmin = xs[k], r[k]
         self.seen.append(q)

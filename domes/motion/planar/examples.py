@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from domes.model.mechanism import Input, Joint, Mechanism
+from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism
 
 
 def four_bar(speed: float = 10.0) -> Mechanism:
@@ -67,4 +67,21 @@ def parallelogram() -> Mechanism:
          Joint("C", "R", ("coupler", "rocker"), (bx + 3.0, by)),
          Joint("D", "R", ("rocker", "frame"), (3.0, 0.0))],
         [Input("A")],
+    )
+
+
+def stephenson_iii(crank: float = 0.6) -> Mechanism:
+    """Stephenson III six-bar: a crank (pivot O) drives, through link3, the ternary coupler of a triad (class III),
+    whose links 1 and 2 are pivoted on the frame at P1 and P2; the crank turns fully."""
+    return Mechanism.build(
+        "Stephenson III six-bar", ["frame", "crank", "coupler", "link1", "link2", "link3"], "frame",
+        [Joint("O", "R", ("frame", "crank"), (-3.0, 3.8)),
+         Joint("Q", "R", ("crank", "link3"), (-3.0 + crank, 3.8)),
+         Joint("B3", "R", ("link3", "coupler"), (1.0, 3.8)),
+         Joint("B1", "R", ("coupler", "link1"), (0.0, 3.0)),
+         Joint("P1", "R", ("link1", "frame"), (0.0, 0.0)),
+         Joint("B2", "R", ("coupler", "link2"), (2.0, 3.2)),
+         Joint("P2", "R", ("link2", "frame"), (2.0, 0.0))],
+        [Input("O", 360.0)],
+        points=[CouplerPoint("T", "coupler", (1.5, 4.5))],
     )

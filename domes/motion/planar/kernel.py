@@ -2,8 +2,10 @@
 
 A :class:`Program` is compiled once from a
 :class:`~domes.motion.planar.query.Kinematics` whose groups are drivers and
-dyads (RRR, RPR, RRP, PRP, RPP: seed 002, chapter 2, and the digest's §F.1)
-and evaluated on arrays: many input values of one mechanism, or many
+dyads (RRR, RPR, RRP, PRP, RPP: seed 002, chapter 2, and the digest's §F.1),
+gear and cam pairs, and larger Assur groups (class III and IV, solved by
+Newton's method on arrays: :mod:`~domes.motion.planar.groups`), and
+evaluated on arrays: many input values of one mechanism, or many
 mechanisms of one topology (a :class:`Geometry` of arrays of joint
 coordinates) over many inputs at once. Points are complex numbers ``x + iy``
 and a link's rotation from its drawn pose is a unit complex number, so a
@@ -37,6 +39,8 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.motion.planar.dyads import ASSEMBLY_SLACK
+from domes.motion.planar.groups import Loops, follow
+from domes.motion.planar.groups import solve as solve_stack
 from domes.motion.planar.structure import CamTie, Rotation
 
 SIGNED = ("RRR", "RPR", "RRP")
@@ -44,34 +48,62 @@ SIGNED = ("RRR", "RPR", "RRP")
 
 def vectorizable(kin) -> bool:
     """Whether every group the query needs is a driver, a dyad with a closed form, or a geared or cammed group
-    whose pairs are driven by the inputs and the links those place (:func:`blocked` names the others)."""
-    return not blocked(kin)
+    whose pairs are driven by the inputs and the links those place (:func:`blocked` names the others; the kernel
+    also takes larger Assur groups, by Newton's method on arrays: :func:`iterated`)."""
+    return not blocked(kin) and not iterated(kin)
+
+
+def iterated(kin) -> list[str]:
+    """Labels of the groups the kernel solves by Newton's method on arrays (:mod:`~domes.motion.planar.groups`):
+    class-III, class-IV and larger Assur groups.
+
+    >>> from domes.motion.planar.examples import four_bar
+    >>> from domes.motion.planar.query import Kinematics
+    >>> iterated(Kinematics(four_bar())), iterated(Kinematics(four_bar(), method="newton"))
+    ([], [])
+    """
+    stuck = set(blocked(kin))
+    return [g.label for g in kin.groups if _newton_group(kin, g) and g.label not in stuck]
 
 
 def blocked(kin) -> list[str]:
-    """Labels of the groups the kernel cannot evaluate: groups solved by Newton's method, and geared or cammed
-    groups that read a variable no earlier driver or dyad holds on arrays.
+    """Labels of the groups the kernel cannot evaluate: the whole loop-closure model (``method="newton"``: a
+    group holding a driven joint to a placed link, which the step-by-step route keeps as the reference), groups
+    with gear or cam pairs inside, and geared, cammed or larger groups that read a variable no earlier group
+    holds on arrays.
 
     >>> from domes.motion.planar.examples import four_bar
     >>> from domes.motion.planar.query import Kinematics
     >>> blocked(Kinematics(four_bar(), method="newton"))
     ['3-link group {crank, coupler, rocker}']
     """
-    newton = [g.label for g in kin.groups if g.kind not in ("geared", "cammed") and g.index not in kin.plans
-              and (g.unknowns or len(g.links) > 1)]
-    return newton + _compile(kin)[2]
+    s = kin.structure
+    driven = set(s.input_vars)
+    whole = []
+    for g in kin.groups:
+        if not _newton_group(kin, g):
+            continue
+        outer = any(jn in driven and not set(kin.mech.joint(jn).links) <= set(g.links) for jn in g.joints)
+        if outer or s.derived_of(g):
+            whole.append(g.label)
+    return whole + [label for label in _compile(kin)[2] if label not in whole]
+
+
+def _newton_group(kin, g) -> bool:
+    """Whether ``g`` is solved by Newton's method (not a driver, a dyad with a closed form, nor geared or cammed)."""
+    return g.kind not in ("geared", "cammed") and g.index not in kin.plans and bool(g.unknowns or len(g.links) > 1)
 
 
 def _compile(kin):
     """What the kernel carries between groups: ``(reads, order, blocked)``.
 
-    ``reads[i]`` lists the variables that later gear and cam pairs need from
-    dyad ``i``, in the order they are read: ``("rot", var, link, coeff,
-    rest)`` (from ``link``'s rotation ``coeff·var + rest``) or ``("slide",
+    ``reads[i]`` lists the variables that later gear and cam pairs and
+    groups solved by Newton's method need from dyad ``i``, in the order
+    they are read: ``("rot", var, link, coeff, rest)`` (from ``link``'s rotation ``coeff·var + rest``) or ``("slide",
     var, joint)``. ``order[i]`` lists the derived variables of geared or
     cammed group ``i`` (racks' slides, cams' followers) in the order they are
-    computed; ``blocked`` the labels of the geared or cammed groups that need
-    a variable no earlier step holds.
+    computed; ``blocked`` the labels of the geared, cammed or Newton groups
+    that need a variable no earlier step holds.
     """
     s = kin.structure
     have = set(s.input_vars.values())
@@ -110,6 +142,13 @@ def _compile(kin):
                 stuck.append(g.label)
             order[g.index] = done
             have.update(done)
+        elif _newton_group(kin, g):
+            need = {w for x in g.links for w, _ in s.rotations[x].terms}
+            need |= {w for loop in g.loops for seg in loop for w, _ in seg.rotation.terms}
+            need |= {seg.slide for loop in g.loops for seg in loop if seg.kind == "slide"}
+            if not all(get(w) for w in sorted(need - set(g.unknowns))):
+                stuck.append(g.label)
+            have.update(g.unknowns)
         elif g.index in kin.plans:
             for x in g.links:
                 expr = s.rotations[x]
@@ -257,15 +296,29 @@ class Program:
     A geared or cammed group reads the rotations of the links placed before
     it (a dyad's link: its angle from the drawn pose, continuous along the
     last axis from the drawn pose or the ``start`` of :meth:`poses`) and
-    their rates; a cam's follower moves by its law at the cam's turn.
+    their rates; a cam's follower moves by its law at the cam's turn. A
+    class-III, class-IV or larger group is solved by Newton's method along
+    the last axis, continuing from ``start``
+    (:func:`~domes.motion.planar.groups.follow`); its rates solve its loop
+    equations as a stack. Its ``unassembled`` mask holds the configurations
+    from the first one it could not reach.
+
+    >>> from domes.motion.planar.examples import stephenson_iii
+    >>> from domes.motion.planar.query import Kinematics
+    >>> prog = Program(Kinematics(stephenson_iii(), outputs=["angle:link1"]))
+    >>> geom = prog.geometry()
+    >>> pose = prog.poses(geom, np.radians([0.0, 90.0, 180.0]))
+    >>> [round(float(np.degrees(x)), 6) for x in prog.outputs(geom, pose)["angle:link1"]]
+    [-90.0, -77.18777, -66.376967]
     """
 
     def __init__(self, kin):
         others = blocked(kin)
         if others:
-            raise InputError(f"{kin.mech.name}: the kernel evaluates drivers, dyads, and gear and cam pairs driven "
-                             f"by the inputs and the links these place; groups {others} are solved step by step "
-                             "(Newton's method)")
+            raise InputError(f"{kin.mech.name}: the kernel evaluates drivers, dyads, gear and cam pairs driven "
+                             "by the inputs and the links these place, and larger Assur groups (Newton's method on "
+                             f"arrays); groups {others} are solved step by step (Newton's method: the whole "
+                             "loop-closure model, or a group reading what no earlier group holds on arrays)")
         self.kin = kin
         self.reads, order, _ = _compile(kin)
         s = kin.structure
@@ -278,6 +331,8 @@ class Program:
         for g in kin.groups:
             if g.kind in ("geared", "cammed"):
                 self.steps.append(("geared", g, _placements(mech, g, placed), order[g.index]))
+            elif _newton_group(kin, g):
+                self.steps.append(("newton", g, Loops(kin, g), _placements(mech, g, placed)))
             elif g.index in kin.plans:
                 plan = kin.plans[g.index]
                 ka = next(x for x in plan.a.links if x != plan.l1)
@@ -304,6 +359,11 @@ class Program:
         if mech.gears and (coordinates or directions):
             raise InputError(f"{mech.name}: a geared mechanism's ratios come from its drawn pitch points; batches with "
                              "other coordinates or directions are not evaluated (build each mechanism instead)")
+        newton = [g.label for kind, g, *_ in self.steps if kind == "newton"]
+        if newton and (coordinates or directions):
+            raise InputError(f"{mech.name}: the groups {newton} are solved by Newton's method on the mechanism's own "
+                             "loop equations; batches with other coordinates or directions are not evaluated (build "
+                             "each mechanism and sweep it instead)")
         count = None
         at = {j.name: _c(j.at) for j in mech.joints}
         at.update({p.name: _c(p.at) for p in mech.points})
@@ -383,6 +443,8 @@ class Program:
                 self._driver(geom, pose, *rest)
             elif kind == "geared":
                 self._geared(geom, pose, g, *rest)
+            elif kind == "newton":
+                self._newton(geom, pose, g, *rest, joint, start)
             else:
                 self._dyad(geom, pose, g, *rest, (signs or {}).get(g.index, geom.sign.get(g.index, 1.0)))
                 for how in self.reads.get(g.index, ()):
@@ -417,16 +479,56 @@ class Program:
                 values[v] = (geom.s0[v[2:]] if v.startswith("s:") else expr.base.value(values)) + lift
             else:
                 values[v] = expr.value(values)
+        self._place(geom, pose, placements)
+
+    def _place(self, geom, pose, placements):
+        """Place links whose variables are known, each at its joint to a link placed before it."""
+        s = self.kin.structure
+        values = pose.values
         for link, j, known in placements:
             X = pose.world(geom, known, j.name)
             R = np.exp(1j * s.rotations[link].value(values))
             if j.kind == "R":
                 pose.links[link] = (R, X, geom.at[j.name])
             else:
-                x = values[f"s:{j.name}"]
+                x = values[self.kin.structure.input_vars.get(j.name, f"s:{j.name}")]
                 pose.slides[j.name] = x
                 u = pose.links[known][0] * geom.direction[j.name]
                 pose.links[link] = (R, X + _sigma(j, known) * (x - geom.s0[j.name]) * u, geom.at[j.name])
+
+    def _newton(self, geom, pose, g, loops, placements, joint, start):
+        """Solve a group by Newton's method along the last axis of the inputs, continuing from ``start``
+        (:func:`~domes.motion.planar.groups.follow`), and place its links."""
+        s = self.kin.structure
+        q = np.asarray(pose.inputs[joint], dtype=float)
+        shape = pose.shape
+        n = shape[-1] if shape else 1
+        if any(d != 1 for d in shape[:-1]):
+            raise InputError(f"{self.mech.name}: {g.label} is solved by Newton's method along one array of inputs; "
+                             f"got inputs of shape {shape}")
+        path = np.broadcast_to(q, shape).reshape(n)
+        ext = np.empty((n, len(loops.external)))
+        for k, v in enumerate(loops.external):
+            ext[:, k] = np.broadcast_to(pose.values[v], shape).reshape(n)
+        q0 = float(start.get(s.input_vars[joint], geom.drawn[joint]))
+        t = np.cumsum(np.abs(np.diff(np.concatenate(([q0], path)))))
+        drawn = self.kin.structure.drawn
+        ext0 = np.array([float(start.get(v, drawn.get(v, 0.0))) for v in loops.external])
+        ext0[[k for k, v in enumerate(loops.external) if v == s.input_vars[joint]]] = q0
+        x, first = follow(loops, ext, t, np.array([float(start[v]) for v in loops.unknowns]), ext0)
+        for k, v in enumerate(loops.unknowns):
+            pose.values[v] = x[:, k].reshape(shape) if shape else x[0, k]
+        failed = np.arange(n) >= first
+        pose.unassembled[g.index] = failed.reshape(shape) if shape else failed[0]
+        pose.undetermined[g.index] = np.zeros(shape, dtype=bool) if shape else False
+        X = np.concatenate((x, ext), axis=1)
+        closure = np.full(n, np.nan)
+        closure[:first] = loops.closure(X[:first])
+        pose.closure[g.index] = closure.reshape(shape) if shape else closure[0]
+        self._place(geom, pose, placements)
+        for jn in g.joints:
+            if self.mech.joint(jn).kind == "P":
+                pose.slides[jn] = pose.values[s.input_vars.get(jn, f"s:{jn}")]
 
     def _dyad(self, geom, pose, g, plan, ka, kc, sign):
         a, b, c = plan.a, plan.b, plan.c
@@ -551,6 +653,8 @@ class Program:
                     self._driver_motion(geom, pose, levels, m, given[level - 1], *rest)
                 elif kind == "geared":
                     self._geared_motion(geom, pose, levels, m, *rest)
+                elif kind == "newton":
+                    self._newton_motion(geom, pose, levels, m, g, *rest)
                 else:
                     self._dyad_motion(geom, pose, levels, m, *rest)
                     for how in self.reads.get(g.index, ()):
@@ -589,15 +693,49 @@ class Program:
                     rates[v] = cam_rates(expr, pose.values, rates, law=pose.laws[v])[0]
             else:
                 rates[v] = expr.rate(rates)
+        self._place_motion(geom, pose, levels, m, placements)
+
+    def _place_motion(self, geom, pose, levels, m, placements):
+        """Rates (or accelerations) of links placed by :meth:`_place`, their variables' being known."""
+        s = self.kin.structure
         for link, j, known in placements:
             X = pose.world(geom, known, j.name)
             V = _point(pose, levels, m.w[known], m.V[known], known, X)
-            m.w[link] = s.rotations[link].rate(rates)
+            m.w[link] = s.rotations[link].rate(m.rates)
             if j.kind == "P":
-                rate = rates[f"s:{j.name}"]
+                rate = m.rates[s.input_vars.get(j.name, f"s:{j.name}")]
                 m.slide[j.name] = rate
                 V = V + _sigma(j, known) * _relative(geom, pose, levels, j, known, m.w[known], rate)
             m.V[link] = V
+
+    def _newton_motion(self, geom, pose, levels, m, g, loops, placements):
+        """A Newton group's rates from its loop equations: ``J·ẋ = −B·ė`` (``ė`` the rates of the variables it
+        reads) and ``J·ẍ = −B·ë − (the loops' second derivative at ẍ = 0)``, solved as a stack."""
+        shape = pose.shape
+        n = shape[-1] if shape else 1
+        U = len(loops.unknowns)
+        names = loops.unknowns + loops.external
+
+        def column(store, v):
+            return np.broadcast_to(store[v], shape).reshape(n)
+
+        X = np.stack([column(pose.values, v) for v in names], axis=1)
+        _, J = loops.system(X)
+        given = np.stack([column(m.rates, v) for v in loops.external], axis=1)
+        rhs = -np.einsum("nrv,nv->nr", J[:, :, U:], given)
+        if levels:  # the loops' second derivative with the unknowns' accelerations at zero
+            rhs -= loops.second(X, np.stack([column(levels[0].rates, v) for v in names], axis=1))
+        ok = np.all(np.isfinite(J[:, :, :U]), axis=(1, 2))
+        safe = np.where(ok[:, None, None], J[:, :, :U], np.eye(2 * loops.loops, U))
+        sol = solve_stack(safe, np.where(ok[:, None], rhs, 0.0))
+        sol[~ok] = np.nan
+        for k, v in enumerate(loops.unknowns):
+            m.rates[v] = sol[:, k].reshape(shape) if shape else sol[0, k]
+        self._place_motion(geom, pose, levels, m, placements)
+        variables = self.kin.structure.input_vars
+        for jn in g.joints:
+            if self.mech.joint(jn).kind == "P":
+                m.slide[jn] = m.rates[variables.get(jn, f"s:{jn}")]
 
     def _dyad_motion(self, geom, pose, levels, m, plan, ka, kc):
         """Solve the dyad's two unknown rates from the constraint at its inner joint (linear in them)."""

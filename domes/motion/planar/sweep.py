@@ -51,7 +51,7 @@ from domes.motion.planar.continuation import (
     grid,
     grid_size,
 )
-from domes.motion.planar.kernel import vectorizable
+from domes.motion.planar.kernel import blocked, iterated
 from domes.motion.planar.query import (
     PRESETS,
     SINGULAR_CONDITION,
@@ -210,13 +210,13 @@ def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None, 
                          f"({cont.fmt(cont.q0)}) in {walked:.3g} steps of the resolution {cont.fmt(cont.h)}, more than "
                          f"{MAX_STEPS:,}: sweep a shorter range, nearer the drawn pose")
     qs = grid(start, stop, step or cont.h)
-    sw = _vector_sweep(kin, cont, qs, progress) if vectorizable(kin) else _scalar_sweep(kin, cont, qs, progress)
+    sw = _scalar_sweep(kin, cont, qs, progress) if blocked(kin) else _vector_sweep(kin, cont, qs, progress)
     return replace(sw, turns=turns) if turns else sw
 
 
 def _reach(kin, cont, q):
     """The state at ``q`` reached from the drawn pose, and the branch points passed on the way."""
-    if not vectorizable(kin):
+    if blocked(kin):
         return cont.start(q), []
     walker = Walker(cont, Compiled(kin))
     pts, _ = fine_grid([q], cont.q0, cont.h)
@@ -245,10 +245,12 @@ def _vector_sweep(kin, cont, qs, progress) -> Sweep:
     inputs = pts[reached]
     if inputs.size:
         ends = {0: "starts"} if w.stuck is not None else {0: "starts", inputs.size - 1: "ends"}
-        for k, end in ends.items():
+        for k, end in ends.items() if walker.signed else ():  # only dyads with two assembly modes branch there
             dead += walker.on_branch_point({v: float(a[k]) for v, a in values.items()}, float(inputs[k]), end, dead)
         rates, accels, residuals, conditions = motion_many(kin, values, kin.order)
         table = {c: np.array(a, dtype=float) for c, a in outputs_many(kin, values, rates, accels, kin.order).items()}
+        if iterated(kin):  # groups solved by Newton's method: their singular points, as the scalar path finds them
+            _refine_peaks(kin, cont, inputs, conditions, lambda k: {v: float(a[k]) for v, a in values.items()}, dead)
         dead += _refuse(kin, cont, inputs, table, conditions, values, dead)
     else:
         table = {c: np.zeros(0) for c in kin.output_values(state, _nan(state), _nan(state), kin.order)}
@@ -318,7 +320,8 @@ def _scalar_sweep(kin, cont, qs, progress) -> Sweep:
             break
         qa = q
         steps.append(_step(kin, cont, q, state, dead))
-    _refine_peaks(kin, cont, steps, dead)
+    _refine_peaks(kin, cont, [s.inputs[cont.joint] for s in steps], [s.condition for s in steps],
+                  lambda k: steps[k].state, dead)
     columns = tuple(steps[0].values) if steps else tuple(kin.output_values(state, _nan(state), _nan(state), kin.order))
     inputs = np.array([s.inputs[cont.joint] for s in steps], dtype=float)
     table = {c: np.array([s.values[c] for s in steps], dtype=float) for c in columns}
@@ -352,21 +355,22 @@ def _nan(state):
 
 
 def _inverse_condition(cont, q, near):
-    """``1/cond`` at input ``q``, walking there in small steps from the nearest solved step."""
-    step = min(near, key=lambda st: abs(st.inputs[cont.joint] - q))
-    values = cont.walk(step.state, step.inputs[cont.joint], q, cont.h / 16)
+    """``1/cond`` at input ``q``, walking there in small steps from the nearest solved step (``(input, state)``)."""
+    qa, state = min(near, key=lambda st: abs(st[0] - q))
+    values = cont.walk(state, qa, q, cont.h / 16)
     return 1.0 / cont.kin.motion(values, 0)[3]
 
 
-def _refine_peaks(kin, cont, steps, dead):
+def _refine_peaks(kin, cont, qs, conds, state, dead):
     """Golden-section search for the singular point under each peak of the condition number.
 
-    Near a simple singularity ``1/cond`` falls linearly to zero; the peak is
-    reported when the refined minimum is consistent with a zero inside the
-    final bracket (``1/cond ≤ 10·slope·bracket``, the slope read at the
-    neighbouring steps) or ``cond`` exceeds :data:`SINGULAR_CONDITION`.
+    ``qs`` and ``conds`` are the steps' inputs and condition numbers,
+    ``state(k)`` the configuration of step ``k``. Near a simple singularity
+    ``1/cond`` falls linearly to zero; the peak is reported when the refined
+    minimum is consistent with a zero inside the final bracket
+    (``1/cond ≤ 10·slope·bracket``, the slope read at the neighbouring
+    steps) or ``cond`` exceeds :data:`SINGULAR_CONDITION`.
     """
-    conds = [s.condition for s in steps]
     known = [d.input for d in dead]
     # Positions to rounding: Newton's tolerance would blur the peak.
     fine = Continuation(kin.with_accuracy(PRESETS["exact"]), cont.joint, cont.fixed)
@@ -378,20 +382,18 @@ def _refine_peaks(kin, cont, steps, dead):
             dead.append(DeadPoint(q, within, DeadPointKind.SINGULAR, group.label, group.joints, text))
             known.append(q)
 
-    qs = [s.inputs[cont.joint] for s in steps]
-    for k in range(1, len(steps) - 1):
-        c = conds[k]
-        if not (c >= conds[k - 1] and c >= conds[k + 1] and (c > WATCH_CONDITION or _v_shaped(qs, conds, k))):
-            continue
-        q = steps[k].inputs[cont.joint]
-        group = _worst_group(kin, steps[k].state)
+    qs, conds = np.asarray(qs, dtype=float), np.asarray(conds, dtype=float)
+    for k in _peaks(qs, conds):
+        c = float(conds[k])
+        q = float(qs[k])
+        group = _worst_group(kin, state(k))
         if not c < SINGULAR_CONDITION:  # the grid hit the singular point itself
             report(q, eps_q, group, f"{group.label}: Jacobian singular at input {cont.fmt(q)} (joints "
                    f"{', '.join(group.joints)}); a branch or change point")
             continue
-        near = steps[k - 1:k + 2]
-        a, b = steps[k - 1].inputs[cont.joint], steps[k + 1].inputs[cont.joint]
-        slope = max(1 / conds[k - 1], 1 / conds[k + 1]) / abs(b - a) * 2
+        near = [(float(qs[i]), state(i)) for i in (k - 1, k, k + 1)]
+        a, b = float(qs[k - 1]), float(qs[k + 1])
+        slope = max(1 / float(conds[k - 1]), 1 / float(conds[k + 1])) / abs(b - a) * 2
         g = (math.sqrt(5) - 1) / 2
         x1, x2 = b - g * (b - a), a + g * (b - a)
         try:
@@ -406,7 +408,7 @@ def _refine_peaks(kin, cont, steps, dead):
                     x2 = a + g * (b - a)
                     f2 = _inverse_condition(fine, x2, near)
         except (Stuck, SolveFailure) as exc:
-            report(q, abs(near[2].inputs[cont.joint] - near[0].inputs[cont.joint]) / 2, group, f"{group.label}: condition number {c:.3g} peaks near input "
+            report(q, abs(near[2][0] - near[0][0]) / 2, group, f"{group.label}: condition number {c:.3g} peaks near input "
                    f"{cont.fmt(q)} (joints {', '.join(group.joints)}); a singular point is likely there but "
                    f"could not be located ({exc})")
             continue
@@ -418,6 +420,17 @@ def _refine_peaks(kin, cont, steps, dead):
             report(q, within, group, f"{group.label}: Jacobian singular at input {cont.fmt(q)} (joints "
                    f"{', '.join(group.joints)}, condition {1 / fmin if fmin else math.inf:.3g}); a branch or change point: "
                    "the sweep stays in the drawn assembly mode")
+
+
+def _peaks(qs, conds) -> list[int]:
+    """The interior steps where the condition number peaks above :data:`WATCH_CONDITION` or ``1/cond`` dips in a V
+    towards zero (:func:`_v_shaped`), in order."""
+    if conds.size < 3:
+        return []
+    c, before, after = conds[1:-1], conds[:-2], conds[2:]
+    top = (c >= before) & (c >= after)
+    candidates = np.flatnonzero(top) + 1
+    return [int(k) for k in candidates if conds[k] > WATCH_CONDITION or _v_shaped(qs, conds, k)]
 
 
 def _v_shaped(qs, conds, k) -> bool:
