@@ -5,6 +5,7 @@
 # complete: ch2-example-4: 1 real root(s), 1 linkage(s), 1 usable; ... ms
 1. usable; crank 0.63234, coupler 0.342974, rocker 0.652519, frame 1; non-Grashof (triple rocker); ...
    pivots A (0, 0), D (1, 0); moving pivots B (0.346046, 0.52925), C (0.375, 0.1875); largest error ...
+   driven by a rocker: the link at A only rocks, from ...
    inversion (2-109) and Freudenstein's equation agree on the lengths to ...
 0
 """
@@ -24,8 +25,10 @@ from domes.design.synthesis.solve import generator_fourbar
 from domes.design.synthesis.task import link_ratio, min_transmission, relative_tolerance
 from domes.errors import InputError
 from domes.execution import InProcess, executor
+from domes.io.atlas import atlas_path, default_atlas
 from domes.io.files import check_target
 from domes.io.tasks import load_spatial_task, load_task
+from domes.motion.coupler.atlas import Atlas
 from domes.sketch.synthesis import synthesis_html
 
 #: Seconds between progress lines when stderr is not a terminal (a log): at most one line per interval.
@@ -67,6 +70,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--quiet", "-q", action="store_true",
                    help="no progress lines on stderr (shown by default: on a terminal as the search goes, "
                    "elsewhere one every few seconds)")
+    p.add_argument("--atlas", choices=("auto", "small", "quick", "none"), default="auto",
+                   help="path tasks of nine points or more: the coupler-curve atlas whose look-up (as domes curves "
+                   "match) seeds the least squares: small (the data folder's, built there first if need be), quick "
+                   "(built in memory, about 2.5 s), none (random starts only); auto (default): small when it is "
+                   "built, else quick")
     parallel_options(p, "dimension a curve task's candidates")
     p.set_defaults(func=run)
 
@@ -91,7 +99,7 @@ def run(args) -> int:
         result = synthesize(task, args.method, args.seeds, progress=_progress(args),
                             executor=None if isinstance(run_on, InProcess) else run_on,
                             min_transmission_deg=args.min_transmission, tolerance=args.tolerance,
-                            max_link_ratio=args.max_link_ratio)
+                            max_link_ratio=args.max_link_ratio, atlas=_atlas(args.atlas))
     if args.format == "html":
         text = synthesis_html(result, task)
     elif isinstance(result, Dimensioning):
@@ -100,6 +108,16 @@ def run(args) -> int:
         text = _json(result) if args.format == "json" else _text(result, args.all)
     write_output(text, args.output)
     return 0 if result.success else 1
+
+
+def _atlas(choice: str):
+    """The atlas whose look-up seeds a path task: ``small`` (from the data folder, built there first if need be),
+    ``quick`` (built in memory), ``none``; ``auto``: the small one when it is built, else the quick one."""
+    if choice == "none":
+        return False
+    if choice == "small" or (choice == "auto" and atlas_path("small").is_file()):
+        return Atlas(default_atlas("small"))
+    return None
 
 
 def _progress(args):
@@ -114,7 +132,8 @@ def _solution_dict(s, name):
            "warnings": list(s.warnings),
            "lengths": s.fourbar.named_lengths(),
            "residuals": list(s.residuals), "equation_residuals": list(s.equation_residuals),
-           "grashof": s.checks.grashof, "crank_rotates": s.checks.crank_rotates,
+           "grashof": s.checks.grashof, "crank_rotates": s.checks.crank_rotates, "driver": s.checks.driver,
+           "crank_range_deg": list(s.checks.crank_range_deg) if s.checks.crank_range_deg else None,
            "min_transmission_deg": s.checks.min_transmission_deg,
            "crank_angles_deg": list(s.checks.crank_angles_deg), "notes": list(s.notes)}
     if s.structural is not None:
@@ -163,6 +182,8 @@ def _text(result, everything: bool) -> str:
         lines.append(f"   pivots A {_fmt(fb.a0)}, {fixed}; moving pivots B {_fmt(fb.a1)}, C {_fmt(fb.b1)}; "
                      f"largest error {s.residual:.1e} ({_measure(result.kind, s)}; equations "
                      f"{max(s.equation_residuals, default=0.0):.1e})")
+        if s.checks.driver:
+            lines.append(f"   {s.checks.driver}")
         for warning in s.warnings:
             lines.append(f"   warning: {warning}")
         for note in s.notes:

@@ -130,8 +130,10 @@ def check_slider(sc: SliderCrank, positions_a, positions_b) -> Checks:
     angles = _motion_defects(A, a0, modes, dead, "the coupler does not reach the slide", defects)
     mu = [math.degrees(math.acos(min(1.0, abs(float(np.dot(B[j] - A[j], u))) / max(length, 1e-300))))
           for j in range(len(A))]                        # the coupler's angle with the slide: 0 best
+    driver = ("driven by a crank: it turns fully (r + |e| ≤ L)" if turns else
+              "driven by a rocker: the crank only rocks (r + |e| > L)")
     return Checks(kind, turns, 90.0 - max(mu) if mu else float("nan"),
-                  tuple(float(math.degrees(x)) for x in angles), tuple(defects))
+                  tuple(float(math.degrees(x)) for x in angles), tuple(defects), driver)
 
 
 def _pt(p) -> tuple[float, float]:
@@ -147,6 +149,11 @@ class Checks:
     min_transmission_deg: float
     crank_angles_deg: tuple[float, ...]
     defects: tuple[str, ...] = field(default_factory=tuple)
+    #: What drives the linkage at ``A``: a crank that turns fully, or a link that only rocks (and over what range).
+    driver: str = ""
+    #: The range ``(from, to)`` (°, counter-clockwise) the link at ``A`` rocks over on its drawn circuit; None when it
+    #: turns fully.
+    crank_range_deg: tuple[float, float] | None = None
 
     @property
     def usable(self) -> bool:
@@ -169,6 +176,44 @@ def grashof_class(a: float, b: float, c: float, d: float) -> tuple[str, bool]:
     return f"{kind} rocker-crank (the rocker turns)", False
 
 
+def driver_range(fb: FourBar) -> tuple[float, float] | None:
+    """The range ``(from, to)`` (rad, counter-clockwise, ``from`` within ±π) of the link at ``a0`` where the loop
+    closes, the one holding its drawn angle; None when it turns fully.
+
+    >>> [round(math.degrees(x), 3) for x in driver_range(FourBar((0, 0), (2, 0), (3, 2), (3, 0)))]
+    [-114.332, 114.332]
+    >>> driver_range(FourBar((0, 0), (1, 0), (3, 2), (3, 0))) is None
+    True
+    """
+    a, b, c, d = fb.lengths
+    frame = math.atan2(fb.b0[1] - fb.a0[1], fb.b0[0] - fb.a0[0])
+    drawn = math.remainder(math.atan2(fb.a1[1] - fb.a0[1], fb.a1[0] - fb.a0[0]) - frame, 2 * math.pi)
+    lo = (a * a + d * d - (b + c) ** 2) / (2 * a * d)     # cos of the angle from the frame: within [lo, hi]
+    hi = (a * a + d * d - (b - c) ** 2) / (2 * a * d)
+    if lo <= -1 and hi >= 1:
+        return None
+    outer = math.acos(max(-1.0, min(1.0, lo))) if lo > -1 else math.pi
+    inner = math.acos(min(1.0, max(-1.0, hi))) if hi < 1 else 0.0
+    if inner == 0.0:
+        span = (-outer, outer)
+    elif outer == math.pi:
+        span = (inner, 2 * math.pi - inner)
+    else:
+        span = (inner, outer) if drawn >= 0 else (-outer, -inner)
+    start = math.remainder(frame + span[0], 2 * math.pi)
+    return start, start + span[1] - span[0]
+
+
+def _driver(fb: FourBar, turns: bool) -> tuple[str, tuple[float, float] | None]:
+    """The sentence that says what drives the linkage at ``A`` and the range (°) it rocks over."""
+    if turns:
+        return "driven by a crank: the link at A turns fully", None
+    lo, hi = (math.degrees(x) for x in driver_range(fb))
+    other = grashof_class(*reversed(fb.lengths[:3]), fb.lengths[3])[1]
+    hint = "; the link at D turns fully: driven there it is a crank" if other else ""
+    return f"driven by a rocker: the link at A only rocks, from {lo:.1f}° to {hi:.1f}° ({hi - lo:.1f}°){hint}", (lo, hi)
+
+
 def check(fb: FourBar, positions_a, positions_b) -> Checks:
     """Check a four-bar whose moving pivots are at ``positions_a[j]`` and ``positions_b[j]`` in position ``j``."""
     a0, b0 = np.asarray(fb.a0, float), np.asarray(fb.b0, float)
@@ -186,8 +231,9 @@ def check(fb: FourBar, positions_a, positions_b) -> Checks:
         cos = float(np.dot(u, v) / (np.linalg.norm(u) * np.linalg.norm(v))) if np.linalg.norm(u) * np.linalg.norm(v) else 1
         ang = math.degrees(math.acos(max(-1.0, min(1.0, cos))))
         mu.append(min(ang, 180 - ang))
+    driver, span = _driver(fb, turns) if min(a, b, c, d) > 0 else ("", None)
     return Checks(kind, turns, min(mu) if mu else float("nan"), tuple(float(math.degrees(x)) for x in angles),
-                  tuple(defects))
+                  tuple(defects), driver, span)
 
 
 def _motion_defects(A, a0, modes, dead, why: str, defects: list) -> np.ndarray:

@@ -50,6 +50,9 @@ NEARLY = 1e-3
 #: one still moving after this many runs off with its pivots (points nearly in line) and is left out by REACH.
 POLISH = 400
 
+#: A least-squares minimum this near every point (RMS, relative to the points' size) meets them exactly.
+EXACT = 1e-12
+
 #: The pivot coordinates, in the order of the unknowns.
 PIVOTS = ("a0x", "a0y", "a1x", "a1y", "b1x", "b1y", "b0x", "b0y")
 
@@ -256,14 +259,17 @@ def _damped_steps(M, g):
 
 
 def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep: int = 10,
-        least_squares_only: bool = False, progress: Progress | None = None, left_out: dict | None = None
-        ) -> list[PathFit]:
+        least_squares_only: bool = False, progress: Progress | None = None, left_out: dict | None = None,
+        seeded: list[PathFit] | None = None, info: dict | None = None) -> list[PathFit]:
     """Four-bars through ``points`` with the pivot coordinates ``given``: every distinct root found (exact, the
     degenerate ones too), or the ``keep`` best distinct local minima (least squares), from ``starts`` random starts.
 
     ``crank``: the crank's rotations ``φ1j`` (rad) from point 1 to each later point (prescribed input angles).
     ``least_squares_only``: the best minima even when the count makes the problem exact (no root was found).
     ``left_out``: a dictionary that counts the least-squares minima left out as degenerate, by reason.
+    ``seeded``: linkages to start from besides the random starts (:func:`seed_from`; their given coordinates are
+    replaced by the task's); by least squares, when one of them meets every point (RMS within :data:`EXACT` of the
+    size) the random starts are left out, and ``info["random starts"]`` says how many were used.
     """
     check_points(points)
     P = np.asarray(points, dtype=float)
@@ -276,9 +282,25 @@ def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep:
     size = float(max(np.ptp(P, axis=0).max(), 1e-300))
     centre = P.mean(axis=0)
     free = [p for p in PIVOTS if p not in given]
+    if info is not None:
+        info["random starts"] = starts
     rng = np.random.default_rng(seed)
     X0 = np.hstack([centre[[0 if p.endswith("x") else 1 for p in free]] + 2 * size * rng.uniform(-1, 1, (starts, len(free))),
                     rng.uniform(-math.pi, math.pi, (starts, n - 1))])
+    if seeded:
+        rows = [[getattr(f, p[:2])[p[2] == "y"] for p in free] + list(f.rotations) for f in seeded
+                if len(f.rotations) == n - 1]
+        if rows and kind == "least squares":
+            # seeds that reach the points exactly make the random starts pointless: no minimum is lower
+            Xs, rs = _levenberg_marquardt(np.asarray(rows, dtype=float), P, given, crank, size, clock=clock)
+            if any(f.residual <= EXACT * size for _, f in _collect(Xs, rs, P, given, kind, size, keep)):
+                X0 = Xs
+                if info is not None:
+                    info["random starts"] = 0
+            else:
+                X0 = np.vstack([Xs, X0])
+        elif rows:
+            X0 = np.vstack([np.asarray(rows, dtype=float), X0])
     X, r = _levenberg_marquardt(X0, P, given, crank, size, clock=clock)
     found = _collect(X, r, P, given, kind, size, keep)
     if kind == "least squares":          # the minima polished (the batch stops at a cap), ranked again
@@ -305,6 +327,68 @@ def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep:
             r[i] = fun(X[i])
         found = _collect(X[idx], r[idx], P, given, kind, size, keep, left_out)
     return [f for _, f in found]
+
+
+def seed_from(points, linkage) -> PathFit | None:
+    """A start for :func:`fit` from a four-bar ``(a0, a1, b1, b0, point)`` drawn in any pose (points in the
+    plane): its moving pivots where its coupler point is nearest point 1, and the coupler's rotation from there to
+    where it is nearest each later point (either assembly mode; 2,880 crank angles, then twice 400 around the
+    nearest); None when its loop never closes. ``residual`` is the largest of those distances.
+
+    >>> P = [(1.0, 1.0), (1.2, 1.6), (0.5, 2.0)]
+    >>> s = seed_from(P, ((0, 0), (1, 0), (3, 1), (3, 0), (1, 1)))
+    >>> s.a0, s.a1
+    ((0.0, 0.0), (1.0, 0.0))
+    """
+    a0, a1, b1, b0, p = (np.asarray(v, dtype=float) for v in linkage)
+    pts = np.asarray(points, dtype=float)
+    a, b, c = np.linalg.norm(a1 - a0), np.linalg.norm(b1 - a1), np.linalg.norm(b1 - b0)
+    if not min(a, b, c) > 0:
+        return None
+    ex = (b1 - a1) / b
+    rel = p - a1
+    pu, pv = rel @ ex, ex[0] * rel[1] - ex[1] * rel[0]          # the coupler point along a1 -> b1 and across
+
+    def pose(th, sign):
+        """Crank pins, rocker pins, coupler points and coupler angles at crank angles ``th`` on mode ``sign``."""
+        A = a0 + a * np.stack([np.cos(th), np.sin(th)], axis=-1)
+        e = b0 - A
+        r = np.linalg.norm(e, axis=-1)[..., None]
+        with np.errstate(all="ignore"):
+            along = (b * b + r * r - c * c) / (2 * r)
+            u = e / r
+            B = A + along * u + sign * np.sqrt(b * b - along * along) * np.stack([-u[..., 1], u[..., 0]], axis=-1)
+        f = (B - A) / b
+        Q = A + pu * f + pv * np.stack([-f[..., 1], f[..., 0]], axis=-1)
+        return A, B, Q, np.arctan2(f[..., 1], f[..., 0])
+
+    step = 2 * math.pi / 2880
+    grid = np.arange(2880) * step - math.pi
+    best = []
+    for sign in (1.0, -1.0):
+        th = np.broadcast_to(grid, (len(pts), grid.size))
+        for width in (step, step / 100):                   # the nearest sample, then twice 400 around it
+            Q = pose(th, sign)[2]
+            d = np.linalg.norm(Q - pts[:, None, :], axis=2)
+            d = np.where(np.isfinite(d), d, np.inf)
+            k = np.argmin(d, axis=1)
+            centre = th[np.arange(len(pts)), k]
+            th = centre[:, None] + np.linspace(-2 * width, 2 * width, 401)[None, :]
+        Q = pose(th, sign)[2]
+        d = np.linalg.norm(Q - pts[:, None, :], axis=2)
+        d = np.where(np.isfinite(d), d, np.inf)
+        k = np.argmin(d, axis=1)
+        best.append((d[np.arange(len(pts)), k], th[np.arange(len(pts)), k]))
+    mode = np.where(best[0][0] <= best[1][0], 1.0, -1.0)     # each point on the mode it is nearest (the equations
+    dist = np.minimum(best[0][0], best[1][0])               # do not fix one)
+    angle = np.where(mode > 0, best[0][1], best[1][1])
+    worst = float(np.max(dist))
+    if not math.isfinite(worst):
+        return None
+    A, B, _, psi = pose(angle, mode[:, None])
+    turns = tuple(float(math.remainder(psi[j] - psi[0], 2 * math.pi)) for j in range(1, len(pts)))
+    return PathFit(tuple(map(float, a0)), tuple(map(float, A[0])), tuple(map(float, B[0])), tuple(map(float, b0)),
+                   turns, worst)
 
 
 def _collect(X, r, P, given, kind, size, keep, left_out=None):

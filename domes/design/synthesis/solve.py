@@ -56,6 +56,8 @@ from domes.design.synthesis.task import (
 )
 from domes.design.synthesis.verify import curve_distances
 from domes.errors import InputError
+from domes.motion.coupler.atlas import Atlas, AtlasSpec, OpenAtlas, build
+from domes.motion.coupler.match import cognates, match
 
 #: The smallest transmission angle (°) below which a usable linkage is reported with a warning and ranked after
 #: the others. The book asks only for "a reasonable transmission angle" (seed 002 §2-3); 20° is where the design
@@ -120,8 +122,11 @@ class Synthesis(SolutionSet):
 
     @property
     def message(self) -> str:
-        poor = sum(1 for s in self.usable if s.warnings)
-        warned = f" ({poor} of them with a transmission angle below {self.min_transmission_deg:g}°)" if poor else ""
+        poor = sum(1 for s in self.usable if any(w.startswith("smallest transmission") for w in s.warnings))
+        rocks = sum(1 for s in self.usable if any(w.startswith("the task asks for a crank") for w in s.warnings))
+        warned = [f"{poor} of them with a transmission angle below {self.min_transmission_deg:g}°"] if poor else []
+        warned += [f"{rocks} of them driven by a link that only rocks"] if rocks else []
+        warned = f" ({'; '.join(warned)})" if warned else ""
         grouped = sum(g.count for g in self.degenerate)
         grouped = f", {grouped} degenerate (grouped)" if grouped else ""
         return (f"{self.status}: {self.task_name}: {self.roots} real root(s), {len(self.solutions)} linkage(s), "
@@ -130,7 +135,7 @@ class Synthesis(SolutionSet):
 
 def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, executor=None,
                min_transmission_deg: float | None = None, tolerance: float | None = None,
-               max_link_ratio: float | None = None) -> Synthesis | Dimensioning:
+               max_link_ratio: float | None = None, atlas=None) -> Synthesis | Dimensioning:
     """Dimension a four-bar for ``task`` (guidance, function, rotations or path): every real solution, checked.
 
     A :class:`~domes.design.synthesis.candidate.CurveTask` dimensions its
@@ -156,6 +161,12 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
     ``wanted.tolerance``. ``max_link_ratio`` (default: the task's, else
     :data:`~domes.design.synthesis.verify.MAX_LINK_RATIO`): roots with a longer link than this many times the task's
     extent (the spread of its points and given pivots) are grouped as degenerate.
+
+    ``atlas`` (path tasks of nine points or more): the coupler-curve atlas
+    (:class:`~domes.motion.coupler.atlas.Atlas`) whose look-up and refinement
+    (``domes curves match``) seed the least squares besides the random
+    starts; None builds a quick one in memory once (:func:`seed_atlas`);
+    False leaves the look-up out.
     """
     if method not in ("exact", "fast"):
         raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
@@ -171,6 +182,9 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
             task = replace(task, tolerance=tolerance)
     if max_link_ratio is not None:
         max_link_ratio = link_ratio(max_link_ratio, "max_link_ratio")
+    if not (atlas is None or atlas is False or isinstance(atlas, (Atlas, OpenAtlas))):
+        raise InputError(f"atlas must be a coupler-curve Atlas, None (the quick one) or False (none), got "
+                         f"{type(atlas).__name__}")
     if isinstance(task, CurveTask):
         if not task.candidates:
             raise InputError(f"{task.name}: no candidate to dimension (give a scene or candidates)")
@@ -192,7 +206,7 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
         roots, sols, notes = _function(task, **knobs)
         kind, what = "function", "precision point"
     else:
-        roots, sols, notes = _path(task, tol, (size, extent, ratio), progress=progress, **knobs)
+        roots, sols, notes = _path(task, tol, (size, extent, ratio), progress=progress, atlas=atlas, **knobs)
         kind, what = "path", "point"
     sols, groups = _settle(sols, tol, ratio, size, extent, what)
     notes = list(notes) + [g.text for g in groups]
@@ -207,6 +221,8 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
     if min_transmission_deg is None:
         min_transmission_deg = MIN_TRANSMISSION_DEG
     sols = [_transmission_warning(s, min_transmission_deg) for s in sols]
+    if getattr(task, "driver", "any") == "crank":
+        sols = [_driver_warning(s) for s in sols]
     ranked = sorted(sols, key=_score)
     return Synthesis(task.name, kind, tuple(ranked), roots, time.perf_counter() - started, tuple(notes),
                      min_transmission_deg, groups, tol, ratio, size)
@@ -275,6 +291,14 @@ def _transmission_warning(s: Solution, limit: float) -> Solution:
     return replace(s, warnings=s.warnings + (
         f"smallest transmission angle {mu:.1f}° (at the precision positions) below {limit:g}°: the linkage "
         "transmits force poorly there and may jam (limit: min_transmission_deg, --min-transmission)",))
+
+
+def _driver_warning(s: Solution) -> Solution:
+    """``s`` with a warning when it is usable and the link at ``A`` does not turn fully (the task asks a crank)."""
+    if not s.usable or s.checks.crank_rotates:
+        return s
+    return replace(s, warnings=s.warnings + (f"the task asks for a crank (driver: crank), but this linkage is "
+                                             f"{s.checks.driver.removeprefix('driven by ')}",))
 
 
 def _score(s: Solution):
@@ -393,12 +417,13 @@ def generator_fourbar(g: fn.FunctionGenerator, theta: float, phi: float) -> Four
 
 # -- path generation ----------------------------------------------------------------------------
 
-def _path(task: PathTask, tol: float, scale: tuple, method: str = "exact", seeds: int = 64, progress=None):
+def _path(task: PathTask, tol: float, scale: tuple, method: str = "exact", seeds: int = 64, progress=None,
+          atlas=None):
     """The path routes; ``scale`` is the task's ``(size, extent, max_link_ratio)``."""
     kind = "exact" if task.exhaustive else pf.check_given(len(task.points), dict(task.given), task.crank)
     notes = _path_notes(task, tol, kind)
     if not task.exhaustive:
-        roots, sols, more = _path_fit(task, scale, method, seeds, progress)
+        roots, sols, more = _path_fit(task, scale, method, seeds, progress, atlas)
         return roots, sols, notes + more
     a0, b0 = task.pivot("a0"), task.pivot("b0")
     found = pt.five_points(task.points, a0, b0, method=method, seeds=seeds, progress=progress)
@@ -462,7 +487,7 @@ def _point(p) -> str:
     return f"({p[0]:.6g}, {p[1]:.6g})"
 
 
-def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=None):
+def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=None, atlas=None):
     """Table 2-1's other free choices, prescribed input angles, or least squares (:mod:`.pathfit`); an exact
     problem with no root found but degenerate ones is answered by least squares, and the notes say so."""
     given = dict(task.given)
@@ -473,16 +498,19 @@ def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=No
     line = pf.on_one_line(task.points)
     notes = []
     left_out: dict = {}
+    info: dict = {}
+    seeded, seed_note = atlas_seeds(task, atlas, progress) if len(line) <= pf.ON_ONE_LINE else ([], "")
     if len(line) > pf.ON_ONE_LINE:
         notes.append(f"points {_numbers(line)} lie on one line: a four-bar's coupler curve (a sextic) meets a line "
                      f"in at most {pf.ON_ONE_LINE} points, so no four-bar passes through them all")
     sols, listed, roots = [], [], 0
     if kind == "exact" and not notes:
-        found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress)
+        found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress, seeded=seeded, info=info)
         sols = [_fit_solution(task, f, "exact") for f in found]
         listed = [x for x in sols if vf.degenerate_kind(x.fourbar, x.poses, scale[1], scale[0], scale[2]) is None]
         roots = len(found)
-        note = (f"{len(found)} distinct real root(s) found from {starts} random starts ({eqs} equations, {unknowns} "
+        note = (f"{len(found)} distinct real root(s) found from {starts} random starts"
+                + (f" and {len(seeded)} from the atlas" if seeded else "") + f" ({eqs} equations, {unknowns} "
                 f"unknowns, {len(given)} given: Table 2-1); roots no start reached are missing")
         if not listed:
             notes.append(f"no four-bar found through the {n} points exactly ({eqs} equations, {unknowns} unknowns, "
@@ -490,22 +518,81 @@ def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=No
                          (f"; {len(found)} degenerate root(s) only)" if found else ")"))
     if kind == "exact" and not listed:
         found = pf.fit(task.points, given, task.crank, starts=starts, least_squares_only=True, progress=progress,
-                       left_out=left_out)
+                       left_out=left_out, seeded=seeded, info=info)
         sols += [_fit_solution(task, f, "least squares") for f in found]
         notes.append("answered by least squares: the nearest four-bars, each with its distance from every point"
                      if found else "nor by least squares: no minimum met every point on one assembly mode with links "
                      "of useful length; try more starts (seeds) or other points")
         kind, roots = "least squares", roots + len(found)
     elif kind == "least squares":
-        found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress, left_out=left_out)
+        found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress, left_out=left_out,
+                       seeded=seeded, info=info)
         sols = [_fit_solution(task, f, kind) for f in found]
         roots = len(found)
     if kind == "least squares":
         note = (f"least squares: {eqs} equations in {unknowns - len(given)} unknowns (Table 2-1); the {len(found)} "
-                f"best local minima of {starts} random starts")
+                f"best local minima of {info.get('random starts', starts)} random starts"
+                + (f" and {len(seeded)} from the atlas" if seeded else "")
+                + (" (the random starts left out: the atlas's meet every point)" if seeded and not
+                   info.get("random starts", starts) else ""))
         if left_out:
             note += "; left out as degenerate: " + ", ".join(f"{count} {why}" for why, count in left_out.items())
-    return roots, sols, notes + [note]
+    return roots, sols, notes + [note] + ([seed_note] if seed_note else [])
+
+
+#: Atlas candidates refined for the seeds of a path task, and the fits wanted (as ``domes curves match``).
+SEED_CANDIDATES, SEED_FITS = 10, 2
+
+#: The quick atlas built in memory when none is given: linkages and coupler-plane step (about 6 s to build).
+SEED_ATLAS = AtlasSpec("seeds", 300, 1.0)
+
+_seed_atlas: list = []
+
+
+def seed_atlas() -> Atlas:
+    """The quick coupler-curve atlas of :data:`SEED_ATLAS`, built once per process."""
+    if not _seed_atlas:
+        _seed_atlas.append(Atlas(build(SEED_ATLAS)))
+    return _seed_atlas[0]
+
+
+def atlas_seeds(task: PathTask, atlas=None, progress=None) -> tuple[list[pf.PathFit], str]:
+    """Starts for the path task's least squares from the atlas look-up and refinement of ``domes curves match``
+    (:func:`~domes.motion.coupler.match.match`), and a note: each linkage that fits the points' closed curve,
+    in its six forms (itself and its two Roberts-Chebyshev cognates, each driven from either frame pivot), its
+    pivots and coupler rotations read where its coupler point is nearest each point (:func:`.pathfit.seed_from`).
+    None for fewer than nine points, prescribed timing, or ``atlas`` False.
+
+    >>> atlas_seeds(PathTask(((0, 0), (1, 0), (1, 1), (0, 1)), (("a0x", 0.0), ("a0y", 0.0), ("b0x", 2.0))))
+    ([], '')
+    """
+    if atlas is False or len(task.points) < 9 or task.crank is not None:
+        return [], ""
+    atlas = seed_atlas() if atlas is None else atlas
+    try:
+        found = match(np.asarray(task.points, dtype=float), atlas, SEED_FITS, SEED_CANDIDATES, progress=progress)
+    except (InputError, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        return [], f"atlas look-up (as curves match) left out: {exc}; random starts only"
+    fits = [f for f in found.fits if f.mechanism is not None]
+    fits += [g for m in found.merged for g, _ in m if g.mechanism is not None]
+    seeds = []
+    for f in fits:
+        m = f.mechanism
+        A, B, C, D = (complex(*m.joint(n).at) for n in "ABCD")
+        P = complex(*m.point("P")[1])
+        for a0, a1, b1, b0, p in [(A, B, C, D, P)] + cognates(A, B, C, D, P):
+            for order in ((a0, a1, b1, b0), (b0, b1, a1, a0)):
+                seed = pf.seed_from(task.points, [(z.real, z.imag) for z in order + (p,)])
+                if seed is not None:
+                    seeds.append(seed)
+    given = dict(task.given)
+    seeds.sort(key=lambda f: sum(abs(getattr(f, k[:2])[k[2] == "y"] - v) for k, v in given.items()))
+    best = min((f.after[0] for f in fits), default=math.inf) / max(found.size, 1e-300)
+    if not fits:
+        return [], f"atlas look-up (as curves match): no linkage from {found.tried} candidates; random starts only"
+    return seeds, (f"atlas look-up (as curves match): {len(fits)} linkage(s) trace the points' closed curve to "
+                   f"{best:.2g} of its size; their {len(seeds)} forms (cognates, either frame pivot driving) seed the "
+                   "least squares with the random starts")
 
 
 def _fit_solution(task: PathTask, f: pf.PathFit, kind: str) -> Solution:

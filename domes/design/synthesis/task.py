@@ -25,6 +25,8 @@ which one is wrong. Kinds:
   ``given`` (``{"b0x": 1.5}``), as many as the count of the points leaves;
   ``crank_deg`` prescribes the crank's rotations (timing). More given than
   that: least squares. Five points with ``a0`` and ``b0`` is Example 5.
+  ``driver``: ``"crank"`` when the link at ``a0`` must turn fully, else
+  ``"any"`` (the default); every answer says which it is.
 - ``curve``: any labelled candidate (those of ``scene``, or the ids in
   ``candidates``) dimensioned by least squares: the ``input`` (``role``,
   ``pivot``, ``rotation_deg``, ``overtravel_deg``, ``guide_deg`` of a
@@ -72,6 +74,10 @@ class GuidanceTask:
     max_link_ratio: float | None = None
 
 
+#: What a path task may ask of the link at ``a0`` (its ``driver`` entry).
+DRIVERS = ("crank", "any")
+
+
 @dataclass(frozen=True)
 class PathTask:
     """Points of a coupler path, the pivot coordinates given (Table 2-1's free choices: ``a0x``, ``a0y``, ...)
@@ -84,6 +90,9 @@ class PathTask:
     min_transmission_deg: float | None = None
     tolerance: float | None = None
     max_link_ratio: float | None = None
+    #: ``"crank"``: the link at ``a0`` must turn fully (a linkage it only rocks is warned of and ranked after the
+    #: others); ``"any"``: either, each answer saying which.
+    driver: str = "any"
 
     @property
     def exhaustive(self) -> bool:
@@ -301,7 +310,11 @@ def _path(data: dict, where: str, name: str) -> PathTask:
                     raise InputError(f"{where}: crank_deg puts points {k + 1} and {j + 1} at one crank angle (a whole "
                                      "number of turns apart): a linkage of one degree of freedom has one pose there, "
                                      "so its coupler point cannot be at two points")
-    t = PathTask(pts, tuple(sorted(given.items(), key=lambda kv: PIVOTS.index(kv[0]))), crank, name)
+    driver = data.get("driver", "any")
+    if driver not in DRIVERS:
+        raise InputError(f"{where}: 'driver' must be 'crank' (the link at a0 turns fully) or 'any', got "
+                         f"{shown(driver)}")
+    t = PathTask(pts, tuple(sorted(given.items(), key=lambda kv: PIVOTS.index(kv[0]))), crank, name, driver=driver)
     if t.exhaustive:
         check_path(t.points, t.pivot("a0"), t.pivot("b0"))
     else:
