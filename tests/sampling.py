@@ -24,7 +24,7 @@ import os
 from typing import NamedTuple
 
 #: Cases drawn when the full run is not asked for.
-SAMPLE = 30
+SAMPLE = 24
 FULL = os.environ.get("DOMES_FULL_TESTS", "") == "1"
 
 
