@@ -84,14 +84,56 @@ def profile_points(points) -> np.ndarray:
 
 
 @dataclass(frozen=True)
+class Follower:
+    """A follower: ``kind`` translating or oscillating, ``face`` knife, roller or flat.
+
+    Translating: its axis is parallel to +y at ``offset`` from the cam's centre.
+    Oscillating: its pivot at ``(pivot, 0)``; a knife or roller at ``arm``
+    from the pivot; a flat face along the arm's line, ``face_offset`` from the
+    pivot towards the cam. ``roller`` is the roller's radius.
+
+    >>> Follower("oscillating", "roller", roller=8, pivot=100, arm=80).kind
+    'oscillating'
+    """
+
+    kind: str
+    face: str
+    roller: float = 0.0
+    offset: float = 0.0
+    pivot: float = 0.0
+    arm: float = 0.0
+    face_offset: float = 0.0
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise InputError(f"follower kind must be one of {', '.join(KINDS)}, got {self.kind!r}")
+        if self.face not in FACES:
+            raise InputError(f"follower face must be one of {', '.join(FACES)}, got {self.face!r}")
+        for name in ("roller", "offset", "pivot", "arm", "face_offset"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise InputError(f"follower {name} must be a finite number, got {v!r}")
+        if self.face == "roller" and not self.roller > 0:
+            raise InputError(f"a roller follower needs a roller radius > 0, got {self.roller!r}")
+        if self.face != "roller" and self.roller:
+            raise InputError(f"a {self.face} follower has no roller (roller = {self.roller!r})")
+        if self.kind == "oscillating":
+            if not self.pivot > 0:
+                raise InputError(f"an oscillating follower needs its pivot's distance from the cam > 0, got {self.pivot!r}")
+            if self.face != "flat" and not self.arm > 0:
+                raise InputError(f"an oscillating {self.face} follower needs an arm > 0, got {self.arm!r}")
+
+
+@dataclass(frozen=True)
 class CamProfile:
     """A cam's outline and its follower, as data: what a cam pair follows by contact instead of a law.
 
     ``points`` are the outline in the profile's frame as ``domes cam`` writes
-    it: the cam's centre at the origin; a translating follower's axis
-    parallel to +y at x = ``offset``, rising towards +y; an oscillating
-    follower's pivot at (``pivot``, 0), its arm (``arm`` to the knife edge or
-    the roller's centre) on the +y side, rising as it turns away from the cam.
+    it, for its :class:`Follower`: the cam's centre at the origin; a
+    translating follower's axis parallel to +y at x = ``offset``, rising
+    towards +y; an oscillating follower's pivot at (``pivot``, 0), its arm
+    (``arm`` to the knife edge or the roller's centre) on the +y side, rising
+    as it turns away from the cam.
     ``direction`` is the way the cam was designed to turn (1
     counter-clockwise, −1 clockwise: the frame is seen mirrored). Like a law
     it has ``periodic``, ``period`` and :meth:`evaluate`, which the
@@ -103,17 +145,12 @@ class CamProfile:
 
     >>> import math
     >>> ring = [(10 * math.cos(k * math.pi / 18), 10 * math.sin(k * math.pi / 18)) for k in range(36)]
-    >>> CamProfile(tuple(ring), "translating", "roller", roller=2.0).face
+    >>> CamProfile(tuple(ring), Follower("translating", "roller", roller=2.0)).follower.face
     'roller'
     """
 
     points: tuple[Point2, ...]
-    kind: str
-    face: str
-    roller: float = 0.0
-    offset: float = 0.0
-    pivot: float = 0.0
-    arm: float = 0.0
+    follower: Follower
     base_radius: float | None = None
     direction: int = 1
 
@@ -121,23 +158,14 @@ class CamProfile:
     period: ClassVar[float] = 2 * math.pi
 
     def __post_init__(self):
-        if self.kind not in KINDS:
-            raise InputError(f"follower kind must be one of {', '.join(KINDS)}, got {self.kind!r}")
-        if self.face not in FACES:
-            raise InputError(f"follower face must be one of {', '.join(FACES)}, got {self.face!r}")
-        if self.kind == "oscillating" and self.face == "flat":
+        f = self.follower
+        if not isinstance(f, Follower):
+            raise InputError(f"a cam profile's follower must be a Follower, got {type(f).__name__}")
+        if f.kind == "oscillating" and f.face == "flat":
             raise InputError("an oscillating flat face is not followed on a given profile (knife or roller only)")
-        for name in ("roller", "offset", "pivot", "arm") + (("base_radius",) if self.base_radius is not None else ()):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise InputError(f"follower {name} must be a finite number, got {v!r}")
-        if self.face == "roller" and not self.roller > 0:
-            raise InputError(f"a roller follower needs a roller radius > 0, got {self.roller!r}")
-        if self.face != "roller" and self.roller:
-            raise InputError(f"a {self.face} follower has no roller (roller = {self.roller!r})")
-        if self.kind == "oscillating" and not (self.pivot > 0 and self.arm > 0):
-            raise InputError(f"an oscillating follower needs its pivot's distance from the cam ({self.pivot!r}) and "
-                             f"its arm ({self.arm!r}) > 0")
+        if self.base_radius is not None and (isinstance(self.base_radius, bool) or not (
+                isinstance(self.base_radius, (int, float)) and math.isfinite(self.base_radius))):
+            raise InputError(f"the base radius must be a finite number, got {self.base_radius!r}")
         if self.base_radius is not None and not self.base_radius > 0:
             raise InputError(f"the base radius must be > 0, got {self.base_radius!r}")
         if self.direction not in (1, -1):
@@ -231,7 +259,7 @@ def _contact(pair: CamPair, mech) -> Contact:
 
 def _check_profile(pair: CamPair, where: str, pivot, held) -> None:
     """A profile's follower agrees with the mechanism: its kind, its pivot's distance, the arm's side."""
-    p = pair.law
+    p = pair.law.follower
     kind = "translating" if held.kind == "P" else "oscillating"
     if p.kind != kind:
         raise InputError(f"{where}: the profile's follower is {p.kind} but the follower's joint {held.name!r} makes it "
@@ -244,11 +272,12 @@ def _check_profile(pair: CamPair, where: str, pivot, held) -> None:
                          f"mechanism's joints {pivot.name!r} and {held.name!r} are {d:.12g} apart")
     (ox, oy), (px, py) = pivot.at, held.at
     side = (px - ox) * (pair.at[1] - oy) - (py - oy) * (pair.at[0] - ox)
-    if side * p.direction <= 0:
-        want = "left" if p.direction == 1 else "right"
+    turn = pair.law.direction
+    if side * turn <= 0:
+        want = "left" if turn == 1 else "right"
         raise InputError(f"{where}: the drawn contact 'at' {list(pair.at)} must lie on the {want} of the line from the "
                          f"cam's centre {pivot.name!r} to the follower's pivot {held.name!r}, where a profile designed "
-                         f"to turn {'counter-clockwise' if p.direction == 1 else 'clockwise'} puts the arm")
+                         f"to turn {'counter-clockwise' if turn == 1 else 'clockwise'} puts the arm")
 
 
-__all__ = ["CamPair", "CamProfile", "Contact", "profile_points", "use_profile_law"]
+__all__ = ["CamPair", "CamProfile", "Contact", "Follower", "profile_points", "use_profile_law"]

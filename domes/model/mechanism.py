@@ -41,7 +41,7 @@ from pathlib import Path
 from typing import Iterable, Mapping
 
 from domes.errors import InputError, shown
-from domes.model.cams import FACES, MAX_POINTS, CamPair, CamProfile, profile_points
+from domes.model.cams import FACES, MAX_POINTS, CamPair, CamProfile, Follower, profile_points
 from domes.model.fields import LARGEST, check_space, read_list
 from domes.model.fields import check_keys as _keys
 from domes.model.fields import read_number as _num
@@ -506,11 +506,10 @@ def _profile_from(item, where: str, joints, links, carrier, sliding: bool, sourc
                          f"got {shown(direction)}")
     base = _num(item["base_radius"], f"{where}.base_radius", LARGEST) if "base_radius" in item else None
     try:
-        return CamProfile(points, kind, str(item["face"]),
-                          roller=_num(item.get("roller", 0.0), f"{where}.roller", LARGEST),
-                          offset=_num(item.get("offset", 0.0), f"{where}.offset", LARGEST), pivot=pivot,
-                          arm=_num(item.get("arm", 0.0), f"{where}.arm", LARGEST), base_radius=base,
-                          direction=1 if direction == "ccw" else -1)
+        follower = Follower(kind, str(item["face"]), roller=_num(item.get("roller", 0.0), f"{where}.roller", LARGEST),
+                            offset=_num(item.get("offset", 0.0), f"{where}.offset", LARGEST), pivot=pivot,
+                            arm=_num(item.get("arm", 0.0), f"{where}.arm", LARGEST))
+        return CamProfile(points, follower, base_radius=base, direction=1 if direction == "ccw" else -1)
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from None
 
@@ -561,14 +560,15 @@ def _profile_csv(name: str, where: str, source: str) -> tuple[tuple, str]:
 
 def _profile_dict(p: CamProfile) -> dict:
     """A profile cam pair's file keys (its points written inline, so the file stands alone)."""
-    out = {"profile": [list(xy) for xy in p.points], "face": p.face}
-    if p.face == "roller":
-        out["roller"] = p.roller
-    if p.kind == "translating":
-        if p.offset:
-            out["offset"] = p.offset
+    f = p.follower
+    out = {"profile": [list(xy) for xy in p.points], "face": f.face}
+    if f.face == "roller":
+        out["roller"] = f.roller
+    if f.kind == "translating":
+        if f.offset:
+            out["offset"] = f.offset
     else:
-        out["arm"] = p.arm
+        out["arm"] = f.arm
     if p.base_radius is not None:
         out["base_radius"] = p.base_radius
     if p.direction == -1:

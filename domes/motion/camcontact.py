@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from domes.errors import InputError
-from domes.model.cams import FACES, KINDS, CamProfile, profile_points, use_profile_law
+from domes.model.cams import FACES, KINDS, CamProfile, Follower, profile_points, use_profile_law
 
 #: The coarse grid (rad) on which :func:`follow` walks the contact before solving every angle at once.
 COARSE = math.radians(5.0)
@@ -48,47 +48,6 @@ def _apply(R, v):
 def _J(v):
     """``v`` turned by +90°."""
     return np.stack([-v[..., 1], v[..., 0]], -1)
-
-
-@dataclass(frozen=True)
-class Follower:
-    """A follower: ``kind`` translating or oscillating, ``face`` knife, roller or flat.
-
-    Translating: its axis is parallel to +y at ``offset`` from the cam's centre.
-    Oscillating: its pivot at ``(pivot, 0)``; a knife or roller at ``arm``
-    from the pivot; a flat face along the arm's line, ``face_offset`` from the
-    pivot towards the cam. ``roller`` is the roller's radius.
-
-    >>> Follower("oscillating", "roller", roller=8, pivot=100, arm=80).kind
-    'oscillating'
-    """
-
-    kind: str
-    face: str
-    roller: float = 0.0
-    offset: float = 0.0
-    pivot: float = 0.0
-    arm: float = 0.0
-    face_offset: float = 0.0
-
-    def __post_init__(self):
-        if self.kind not in KINDS:
-            raise InputError(f"follower kind must be one of {', '.join(KINDS)}, got {self.kind!r}")
-        if self.face not in FACES:
-            raise InputError(f"follower face must be one of {', '.join(FACES)}, got {self.face!r}")
-        for name in ("roller", "offset", "pivot", "arm", "face_offset"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v)):
-                raise InputError(f"follower {name} must be a finite number, got {v!r}")
-        if self.face == "roller" and not self.roller > 0:
-            raise InputError(f"a roller follower needs a roller radius > 0, got {self.roller!r}")
-        if self.face != "roller" and self.roller:
-            raise InputError(f"a {self.face} follower has no roller (roller = {self.roller!r})")
-        if self.kind == "oscillating":
-            if not self.pivot > 0:
-                raise InputError(f"an oscillating follower needs its pivot's distance from the cam > 0, got {self.pivot!r}")
-            if self.face != "flat" and not self.arm > 0:
-                raise InputError(f"an oscillating {self.face} follower needs an arm > 0, got {self.arm!r}")
 
 
 @dataclass(frozen=True)
@@ -250,9 +209,7 @@ class ProfileLaw:
     @classmethod
     def of(cls, profile: CamProfile) -> "ProfileLaw":
         """The law of a mechanism's :class:`~domes.model.cams.CamProfile`."""
-        f = Follower(profile.kind, profile.face, roller=profile.roller, offset=profile.offset, pivot=profile.pivot,
-                     arm=profile.arm)
-        return cls(profile.points, f, profile.base_radius, profile.direction)
+        return cls(profile.points, profile.follower, profile.base_radius, profile.direction)
 
     def evaluate(self, x, order: int = 2) -> tuple[np.ndarray, ...]:
         """``(s, s', s'')`` up to ``order`` (0 to 2) at cam angles ``x`` (rad, any shape)."""

@@ -57,8 +57,7 @@ def _errors(got, q, law, phase, sign=1.0):
 def _translating(cam, k):
     """A translating follower on the designed ``cam`` at design angle ``theta[k]`` in the drawn pose."""
     f = cam.follower
-    profile = CamProfile(tuple(map(tuple, cam.profile)), "translating", f.face, roller=f.roller, offset=f.offset,
-                         base_radius=cam.base_radius)
+    profile = CamProfile(tuple(map(tuple, cam.profile)), f, base_radius=cam.base_radius)
     return Mechanism.build(
         "profile cam", ["frame", "cam", "follower"], "frame",
         [Joint("A", "R", ("frame", "cam"), (0.0, 0.0)), Joint("S", "P", ("frame", "follower"), (f.offset, 2.0), math.pi / 2)],
@@ -88,7 +87,7 @@ def test_oscillating_roller_turns_by_its_design_law(direction):
     cam = design_cam(SWING, f, 40, direction=direction, points=POINTS)
     k = 1200                                            # the drawn pose at 120°, a join: the grid meets the joins
     at = cam.contact[k] * (1, direction)                        # mirrored for a clockwise design
-    profile = CamProfile(tuple(map(tuple, cam.profile)), "oscillating", "roller", roller=8, pivot=100, arm=80,
+    profile = CamProfile(tuple(map(tuple, cam.profile)), Follower("oscillating", "roller", roller=8, pivot=100, arm=80),
                          base_radius=40, direction=direction)
     m = Mechanism.build("swinging", ["frame", "cam", "arm"], "frame",
                         [Joint("A", "R", ("frame", "cam"), (0.0, 0.0)), Joint("B", "R", ("frame", "arm"), (100.0, 0.0))],
@@ -199,7 +198,8 @@ def test_an_oscillating_profile_must_agree_with_the_drawn_joints():
     joints = [Joint("A", "R", ("frame", "cam"), (0.0, 0.0)), Joint("B", "R", ("frame", "arm"), (100.0, 0.0))]
 
     def build(pivot=100.0, at=tuple(cam.contact[0])):
-        profile = CamProfile(tuple(map(tuple, cam.profile)), "oscillating", "roller", roller=8, pivot=pivot, arm=80)
+        profile = CamProfile(tuple(map(tuple, cam.profile)), Follower("oscillating", "roller", roller=8, pivot=pivot,
+                                                                    arm=80))
         return Mechanism.build("m", ["frame", "cam", "arm"], "frame", joints, [Input("A")],
                                cams=[CamPair("K", ("cam", "arm"), at, profile)])
 
@@ -210,4 +210,4 @@ def test_an_oscillating_profile_must_agree_with_the_drawn_joints():
     with pytest.raises(InputError, match=r"the drawn contact 'at' .* must lie on the left of the line from the cam's"):
         build(at=tuple(cam.contact[0] * (1, -1)))
     with pytest.raises(InputError, match="an oscillating flat face is not followed"):
-        CamProfile(tuple(map(tuple, cam.profile)), "oscillating", "flat", pivot=100)
+        CamProfile(tuple(map(tuple, cam.profile)), Follower("oscillating", "flat", pivot=100))
