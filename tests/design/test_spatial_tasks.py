@@ -91,3 +91,71 @@ def test_a_guiding_link_task_finds_the_planted_link(tmp_path, capsys):
     path.write_text(json.dumps(data))
     with pytest.raises(InputError, match="link: one of S-S"):
         load_spatial_task(path)
+
+
+def test_an_rssr_function_task_returns_the_seed_001_cranks(capsys, tmp_path):
+    """Seed 002 §2-3 (digest A.3.4): an RSSR meets seven precision pairs; the example's pairs come from the sweep
+    of the seed 001 §3 RSSR (L1 = 250, L3 = 550 mm) with a 100 mm axis offset, and its cranks are among the
+    solutions, each moved to its points by the spatial sweep."""
+    status, out, _ = run(capsys, "examples/synthesis/rssr-function.json", "--format", "json")
+    doc = json.loads(out)
+    assert status == 0 and doc["method"] == "exact" and doc["worst"] < 1e-9
+    assert any(abs(s["crank"] - 250) < 1e-5 and abs(s["rocker"] - 550) < 1e-5 for s in doc["solutions"])
+    assert all(s["swept_error"] < 1e-9 and s["defect"] == "" for s in doc["solutions"])
+    assert len(doc["mechanisms"]) == len(doc["solutions"]) >= 1
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d["precision_deg"].append([130, 40]), "precision_deg: 2 to 7"),
+    (lambda d: d["input_axis"].pop("direction"), "input_axis"),
+    (lambda d: d.update(method="guess"), "method: one of"),
+    (lambda d: d.update(starts=0), "starts: an integer from 1"),
+    (lambda d: d.update(sweep="yes"), "sweep: true or false"),
+    (lambda d: d.update(fixed=[1, 2]), "fixed:"),
+])
+def test_rssr_task_mistakes_are_named(tmp_path, change, message):
+    data = json.loads(open("examples/synthesis/rssr-function.json").read())
+    change(data)
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError, match=message):
+        load_spatial_task(path)
+
+
+def test_five_precision_points_return_the_generator_they_came_from(capsys):
+    """Seed 002 §2-3 (digest A.3.4): five precision pairs with the output axis angle given fix a spherical
+    four-bar function generator; the example's pairs are the motion of a1 = (0.8, 0.6, 0), b1 = (0.36, 0.48, 0.8)
+    at α = 70°, and the exhaustive method returns it, moved to its points by the closed-form analysis."""
+    status, out, _ = run(capsys, "examples/synthesis/spherical-function-five.json", "--format", "json")
+    doc = json.loads(out)
+    assert status == 0 and doc["method"].startswith("exhaustive") and doc["worst"] < 1e-9
+    assert any(np.allclose(s["a1"], (0.8, 0.6, 0), atol=1e-8) and np.allclose(s["b1"], (0.36, 0.48, 0.8), atol=1e-8)
+               for s in doc["solutions"])
+    assert len(doc["mechanisms"]) == len(doc["solutions"])
+
+
+def test_measured_example_3_is_fitted_to_its_sphere_before_synthesis(capsys):
+    """Seed 002 §2-3 (2-87)-(2-89) and Example 3: the orthosis data placed about a hip centre at (120, −40, 310)
+    mm with radius 95 mm (to 0.1 µm) is fitted and normalised; fixing a0x = −0.25 then gives the book's crank
+    a0 = (−0.2500, 0.1900, 0.9494), a1 = (−0.5839, −0.3149, 0.7482) to its printed four digits."""
+    status, out, _ = run(capsys, "examples/synthesis/ch2-example-3-measured.json", "--format", "json")
+    doc = json.loads(out)
+    assert status == 0 and "fitted to concentric spheres, centre (120, -40" in doc["lines"][0]
+    assert any(np.allclose(c["a0"], (-0.25, 0.19, 0.9494), atol=1e-4)
+               and np.allclose(c["a1"], (-0.5839, -0.3149, 0.7482), atol=1e-4) for c in doc["cranks"])
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d.pop("alpha_deg"), "alpha_deg: the output axis angle is needed"),
+    (lambda d: d.update(fixed={"b1x": 0.3}), "leave 0 of the pivots"),
+    (lambda d: d["precision_deg"].extend([[50, 1], [60, 2]]), "precision_deg: 2 to 6"),
+])
+def test_spherical_generator_task_mistakes_are_named(tmp_path, change, message):
+    data = json.loads(open("examples/synthesis/spherical-function-five.json").read())
+    change(data)
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError, match=message):
+        task = load_spatial_task(path)
+        from domes.design.synthesis.spatialtask import solve_spatial
+        solve_spatial(task)

@@ -1,14 +1,17 @@
 """Spatial synthesis tasks: what a task file asks, and the solution with the numbers that show its quality.
 
-Three kinds (format in ``docs/spatial.md``):
+The kinds (format in ``docs/spatial.md``):
 
 - ``spherical-guidance``: measured positions (two body points ``p``, ``q`` per
-  position, on the unit sphere), checked for rigidity; the cranks for four
+  position, on the unit sphere, or in any units with ``measured``: fitted to
+  concentric spheres and normalised, (2-87)-(2-89)), checked for rigidity; the cranks for four
   positions with one coordinate of the fixed pivot fixed (``fix``), or three
   positions in closed form;
 - ``spherical-function``: a spherical four-bar function generator for three
   precision points ``(θ, φ)`` (degrees), output axis at ``alpha_deg``, a chosen
-  output pivot ``b1``; each solution moved by the spatial solver to its points;
+  output pivot ``b1``; each solution moved by the spatial solver to its points
+  (up to six points, and the other kinds of :mod:`~domes.design.synthesis.
+  spatialkinds`, go there);
 - ``rccc``: four poses (an orientation by three angles with a named
   ``convention``, or a rotation matrix; a position), the RCCC of seed 004,
   labelled exact or approximate;
@@ -25,19 +28,20 @@ Three kinds (format in ``docs/spatial.md``):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from domes.design.synthesis import links, sphere
+from domes.design.synthesis import links, spatialkinds, sphere
 from domes.design.synthesis import rccc as rc
+from domes.design.synthesis.spatialresult import SpatialSynthesis, spherical_fourbar, vector
+from domes.design.synthesis.spherefit import NormalisedMotion, normalise_motion
 from domes.design.synthesis.spherical import centre_points_three
-from domes.errors import InputError, shown
-from domes.model.fields import LARGEST, check_keys, read_number
-from domes.model.spatial import SpatialInput, SpatialJoint, SpatialMechanism
-from domes.results import Progress, Result, Status
+from domes.errors import InputError
+from domes.model.fields import check_keys, read_number
+from domes.results import Progress, Status
 
-KINDS = ("spherical-guidance", "spherical-function", "rccc", "guiding-link")
+KINDS = ("spherical-guidance", "spherical-function", "rccc", "guiding-link") + spatialkinds.KINDS
 
 
 @dataclass(frozen=True)
@@ -46,6 +50,8 @@ class SphericalGuidanceTask:
     p: np.ndarray
     q: np.ndarray
     fix: tuple[tuple[str, float], ...]
+    #: For measured data: the sphere fit (2-87)-(2-89) that mapped it to the unit sphere.
+    measured: NormalisedMotion | None = None
 
 
 @dataclass(frozen=True)
@@ -75,45 +81,52 @@ class RCCCTask:
     convention: str = ""
 
 
-def _vec(value, n: int, where: str) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != n:
-        raise InputError(f"{where}: expected {n} numbers, got {shown(value)}")
-    return np.array([read_number(v, f"{where}[{k}]", LARGEST) for k, v in enumerate(value)])
-
-
 def spatial_task_from_dict(data, where: str = "task"):
     """The task of a parsed task file; an :class:`~domes.errors.InputError` names the entry that is wrong."""
     if not isinstance(data, dict) or data.get("kind") not in KINDS:
         raise InputError(f"{where}: a spatial task's 'kind' is one of {', '.join(KINDS)}")
     kind, name = data["kind"], str(data.get("name", where))
+    if kind in spatialkinds.KINDS:
+        return spatialkinds.task_from_dict(data, where)
     if kind == "spherical-guidance":
-        check_keys(data, {"kind", "name", "comment", "positions", "fix"}, {"kind", "positions"}, where)
+        check_keys(data, {"kind", "name", "comment", "positions", "fix", "measured"}, {"kind", "positions"}, where)
+        measured = data.get("measured", False)
+        if not isinstance(measured, bool):
+            raise InputError(f"{where}: measured: true (points in the units they were measured in, fitted to a "
+                             f"sphere and normalised, (2-87)-(2-89)) or false (already on the unit sphere), got "
+                             f"{measured!r}")
         raw = data["positions"]
         if not isinstance(raw, list) or not 3 <= len(raw) <= 4:
             raise InputError(f"{where}: positions: three or four, each {{'p': [x, y, z], 'q': [x, y, z]}}")
         p, q = [], []
         for k, item in enumerate(raw, 1):
             check_keys(item, {"p", "q"}, {"p", "q"}, f"{where}: positions[{k}]")
-            p.append(_vec(item["p"], 3, f"{where}: positions[{k}].p"))
-            q.append(_vec(item["q"], 3, f"{where}: positions[{k}].q"))
+            p.append(vector(item["p"], 3, f"{where}: positions[{k}].p"))
+            q.append(vector(item["q"], 3, f"{where}: positions[{k}].q"))
         fix = data.get("fix", {})
         if not isinstance(fix, dict) or any(k not in ("a0x", "a0y", "a0z") for k in fix):
             raise InputError(f"{where}: fix: {{'a0x': value}} (or a0y, a0z), one or more cranks' fixed coordinate")
         if len(raw) == 4 and not fix:
             raise InputError(f"{where}: four positions leave a crank one free choice: give 'fix', e.g. "
                              "{'a0x': -0.25}")
-        return SphericalGuidanceTask(name, np.array(p), np.array(q),
-                                     tuple((k[-1], read_number(v, f"{where}: fix.{k}")) for k, v in fix.items()))
+        fixes = tuple((k[-1], read_number(v, f"{where}: fix.{k}")) for k, v in fix.items())
+        if measured:
+            fitted = normalise_motion(np.stack([np.array(p), np.array(q)], axis=1))
+            return SphericalGuidanceTask(name, fitted.directions[:, 0], fitted.directions[:, 1], fixes, fitted)
+        return SphericalGuidanceTask(name, np.array(p), np.array(q), fixes)
+    if kind == "spherical-function" and ("fixed" in data or "b1" not in data
+                                         or len(data.get("precision_deg") or ()) != 3):
+        return spatialkinds.spherical_generator_task(data, where)
     if kind == "spherical-function":
         check_keys(data, {"kind", "name", "comment", "alpha_deg", "precision_deg", "b1"},
                    {"kind", "alpha_deg", "precision_deg", "b1"}, where)
         pts = data["precision_deg"]
         if not isinstance(pts, list) or len(pts) != 3:
             raise InputError(f"{where}: precision_deg: three [θ, φ] pairs (degrees), the first [0, 0]")
-        pairs = [_vec(x, 2, f"{where}: precision_deg[{k}]") for k, x in enumerate(pts)]
+        pairs = [vector(x, 2, f"{where}: precision_deg[{k}]") for k, x in enumerate(pts)]
         if np.any(pairs[0]):
             raise InputError(f"{where}: precision_deg: the first pair is the reference, [0, 0]")
-        b1 = _vec(data["b1"], 3, f"{where}: b1")
+        b1 = vector(data["b1"], 3, f"{where}: b1")
         if np.linalg.norm(b1) == 0:
             raise InputError(f"{where}: b1 has no direction")
         return SphericalFunctionTask(name, math.radians(read_number(data["alpha_deg"], f"{where}: alpha_deg")),
@@ -159,52 +172,24 @@ def _poses(data, where: str, count: int | None):
     for k, item in enumerate(raw, 1):
         w = f"{where}: poses[{k}]"
         check_keys(item, {"angles_deg", "rotation", "position"}, {"position"}, w)
-        positions.append(_vec(item["position"], 3, f"{w}.position"))
+        positions.append(vector(item["position"], 3, f"{w}.position"))
         if "rotation" in item:
             rows = item["rotation"]
             if not isinstance(rows, list) or len(rows) != 3:
                 raise InputError(f"{w}.rotation: three rows of three numbers")
-            rotations.append(np.array([_vec(r, 3, f"{w}.rotation") for r in rows]))
+            rotations.append(np.array([vector(r, 3, f"{w}.rotation") for r in rows]))
         elif "angles_deg" in item:
             if not convention:
                 raise InputError(f"{w}: angles need the task's 'convention' ({', '.join(rc.CONVENTIONS)}); the paper "
                                  "names none, so none is implied")
-            rotations.append(rc.pose_rotation(_vec(item["angles_deg"], 3, f"{w}.angles_deg"), convention))
+            rotations.append(rc.pose_rotation(vector(item["angles_deg"], 3, f"{w}.angles_deg"), convention))
         else:
             raise InputError(f"{w}: give its orientation: 'angles_deg' (with a 'convention') or 'rotation'")
     return rotations, positions
 
 
-@dataclass(frozen=True, eq=False)
-class SpatialSynthesis(Result):
-    """Solutions of a spatial task: ``lines`` of text, ``mechanisms`` (spatial mechanism files where the task
-    gives a linkage), ``worst`` (the largest residual or pose error), ``details`` for JSON."""
-
-    name: str
-    kind: str
-    status: Status
-    lines: tuple[str, ...]
-    mechanisms: tuple[SpatialMechanism, ...] = ()
-    worst: float = 0.0
-    details: dict = field(default_factory=dict)
-
-    @property
-    def message(self) -> str:
-        return f"{self.status}: {self.name} ({self.kind}): " + (self.lines[0] if self.lines else "nothing found")
-
-    def to_dict(self) -> dict:
-        return {"name": self.name, "kind": self.kind, "status": str(self.status), "message": self.message,
-                "lines": list(self.lines), "worst": self.worst, **self.details,
-                "mechanisms": [m.to_dict() for m in self.mechanisms]}
-
-
-def _spherical_fourbar(alpha: float, a1, b1, name: str) -> SpatialMechanism:
-    u = (math.cos(alpha), math.sin(alpha), 0.0)
-    joints = (SpatialJoint("A0", "R", ("frame", "input"), (1.0, 0.0, 0.0), (1.0, 0.0, 0.0)),
-              SpatialJoint("A", "R", ("input", "coupler"), tuple(map(float, a1)), tuple(map(float, a1))),
-              SpatialJoint("B", "R", ("coupler", "output"), tuple(map(float, b1)), tuple(map(float, b1))),
-              SpatialJoint("B0", "R", ("frame", "output"), u, u))
-    return SpatialMechanism.build(name, ("frame", "input", "coupler", "output"), "frame", joints, (SpatialInput("A0"),))
+def _xyz(v) -> str:
+    return f"({v[0]:.6g}, {v[1]:.6g}, {v[2]:.6g})"
 
 
 def solve_spatial(task, progress: Progress | None = None) -> SpatialSynthesis:
@@ -212,6 +197,8 @@ def solve_spatial(task, progress: Progress | None = None) -> SpatialSynthesis:
     ``progress`` hears of a guiding-link search's starts."""
     from domes.motion.spatial.sweep import spatial_sweep
 
+    if isinstance(task, spatialkinds.TASKS):
+        return spatialkinds.solve(task, progress)
     if isinstance(task, SphericalGuidanceTask):
         Ds = sphere.rotations(task.p, task.q)
         toward = task.p[0] + task.q[0]
@@ -228,6 +215,15 @@ def solve_spatial(task, progress: Progress | None = None) -> SpatialSynthesis:
         for c in cranks:
             out.append(f"  a0 = ({c.a0[0]:.6f}, {c.a0[1]:.6f}, {c.a0[2]:.6f}), a1 = ({c.a1[0]:.6f}, {c.a1[1]:.6f}, "
                        f"{c.a1[2]:.6f}), arc {math.degrees(c.arc):.4f}°, spread {c.spread:.2g}")
+            if task.measured is not None:
+                back = task.measured.frame.back
+                out.append(f"    in the measured frame: a0 {_xyz(back(c.a0))}, a1 {_xyz(back(c.a1))}")
+        if task.measured is not None:
+            fit = task.measured.fit
+            out.insert(0, f"measured data fitted to concentric spheres, centre {_xyz(fit.centre)}, radii "
+                          f"{', '.join(f'{r:.6g}' for r in fit.radii)}; distance from them {fit.rms:.2g} RMS, "
+                          f"{fit.worst:.2g} worst (position {fit.worst_at[0]}, point {'pq'[fit.worst_at[1] - 1]}); "
+                          "normalised by (2-89)")
         worst = max((c.spread for c in cranks), default=0.0)
         check = sphere.rigidity(task.p, task.q)
         return SpatialSynthesis(task.name, "spherical-guidance", Status.COMPLETE if cranks else Status.EMPTY,
@@ -236,7 +232,7 @@ def solve_spatial(task, progress: Progress | None = None) -> SpatialSynthesis:
     if isinstance(task, SphericalFunctionTask):
         out, mechs, worst = [], [], 0.0
         for k, gen in enumerate(sphere.function_three(task.alpha, task.thetas, task.phis, task.b1), 1):
-            mech = _spherical_fourbar(task.alpha, gen.a1, task.b1, f"{task.name} solution {k}")
+            mech = spherical_fourbar(task.alpha, gen.a1, task.b1, f"{task.name} solution {k}")
             sw = spatial_sweep(mech, 0.0, task.thetas[-1], math.radians(1.0), outputs=["angle:B0"])
             got, missed = [], []
             for point, (theta, phi) in enumerate(zip(task.thetas, task.phis), 1):
