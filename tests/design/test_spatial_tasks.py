@@ -159,3 +159,28 @@ def test_spherical_generator_task_mistakes_are_named(tmp_path, change, message):
         task = load_spatial_task(path)
         from domes.design.synthesis.spatialtask import solve_spatial
         solve_spatial(task)
+
+
+def test_a_spherical_path_task_finds_the_linkage_it_came_from(capsys):
+    """Seed 002 §2-3, Table 2-2: seven points on the sphere with the spins β12, β13 given; the points are the
+    coupler point of the linkage named in the file's comment (to its six printed digits), which is among the
+    solutions (an axis and its opposite are one pivot), every solution moved to the points by the spatial
+    solver."""
+    status, out, _ = run(capsys, "examples/synthesis/spherical-path-seven.json", "--format", "json")
+    doc = json.loads(out)
+    a0, b0 = np.array((0.003034, 0.736797, -0.676107)), np.array((-0.632398, -0.322856, -0.704156))
+    assert status == 0 and doc["method"] == "seeded" and doc["worst"] < 1e-9
+    assert (doc["equations"], doc["unknowns"], len(doc["given"])) == (16, 18, 2)
+    assert any(abs(abs(np.dot(s["a0"], a0)) - 1) < 1e-5 and abs(abs(np.dot(s["b0"], b0)) - 1) < 1e-5
+               for s in doc["solutions"])
+    assert len(doc["mechanisms"]) == len(doc["solutions"])
+
+
+def test_spherical_path_task_mistakes_are_named(tmp_path):
+    data = json.loads(open("examples/synthesis/spherical-path-seven.json").read())
+    data["points"][2] = [1, 1, 1]
+    path = tmp_path / "t.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(InputError, match="normalise"):
+        from domes.design.synthesis.spatialtask import solve_spatial
+        solve_spatial(load_spatial_task(path))

@@ -13,7 +13,11 @@ solution, the method used and each solution's check by the spatial backend
   spherical four-bar function generator, every solution
   (:func:`~domes.design.synthesis.sphere.function_generator`; 5 pairs by a
   resultant, 6 with the output axis angle found too); three pairs with a
-  chosen ``b1`` stay with :mod:`~domes.design.synthesis.spatialtask`.
+  chosen ``b1`` stay with :mod:`~domes.design.synthesis.spatialtask`;
+- ``spherical-path``: a spherical four-bar whose coupler point passes
+  through 2 to 9 points on the unit sphere, Table 2-2's free choices in
+  ``fixed`` (spins ``beta12`` .. in degrees)
+  (:mod:`~domes.design.synthesis.spherepath`).
 
 >>> t = task_from_dict({"kind": "rssr-function", "input_axis": {"point": [0, 0, 0], "direction": [0, 0, 1]},
 ...     "output_axis": {"point": [5, 1, 0], "direction": [1, 0, 0]},
@@ -30,13 +34,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from domes.design.synthesis import rssrfg, sphere
+from domes.design.synthesis import rssrfg, sphere, spherepath
 from domes.design.synthesis.spatialresult import SpatialSynthesis, spherical_fourbar, vector
 from domes.errors import InputError
 from domes.model.fields import check_keys, read_number
 from domes.results import Progress, Status
 
-KINDS = ("rssr-function",)
+KINDS = ("rssr-function", "spherical-path")
 
 
 @dataclass(frozen=True)
@@ -66,7 +70,19 @@ class SphericalGeneratorTask:
     fixed: tuple[tuple[str, object], ...] = ()
 
 
-TASKS = (RSSRFunctionTask, SphericalGeneratorTask)
+@dataclass(frozen=True)
+class SphericalPathTask:
+    """A spherical path generation task: points on the unit sphere, the given variables (spins in rad)."""
+
+    name: str
+    points: np.ndarray
+    fixed: tuple[tuple[str, float], ...]
+    method: str = "auto"
+    starts: int = spherepath.STARTS
+    seed: int = 0
+
+
+TASKS = (RSSRFunctionTask, SphericalGeneratorTask, SphericalPathTask)
 
 
 def _axis(value, where: str) -> tuple[np.ndarray, np.ndarray]:
@@ -113,6 +129,20 @@ def task_from_dict(data: dict, where: str = "task"):
                                 tuple(math.radians(x[0]) for x in pairs), tuple(math.radians(x[1]) for x in pairs),
                                 _fixed(data, where), method, _count(data, "starts", 300, 1, 100_000, where),
                                 _count(data, "seed", 0, 0, 2**31 - 1, where), sweep)
+    if kind == "spherical-path":
+        check_keys(data, {"kind", "name", "comment", "points", "fixed", "method", "starts", "seed"},
+                   {"kind", "points"}, where)
+        raw = data["points"]
+        if not isinstance(raw, list) or not 2 <= len(raw) <= 9:
+            raise InputError(f"{where}: points: 2 to 9 points [x, y, z] on the unit sphere")
+        method = data.get("method", "auto")
+        if method not in ("auto", "exhaustive", "seeded"):
+            raise InputError(f"{where}: method: one of auto, exhaustive, seeded, got {method!r}")
+        fixed = tuple((k, math.radians(v) if k.lower().startswith(("beta", "β")) else v)
+                      for k, v in _fixed(data, where))
+        return SphericalPathTask(name, np.array([vector(p, 3, f"{where}: points[{k}]") for k, p in enumerate(raw)]),
+                                 fixed, method, _count(data, "starts", spherepath.STARTS, 1, 100_000, where),
+                                 _count(data, "seed", 0, 0, 2**31 - 1, where))
     raise InputError(f"{where}: unknown kind {kind!r}")
 
 
@@ -167,7 +197,29 @@ def solve(task, progress: Progress | None = None) -> SpatialSynthesis:
                                           "solutions": [s.to_dict() for s in r.solutions]})
     if isinstance(task, SphericalGeneratorTask):
         return _spherical(task)
+    if isinstance(task, SphericalPathTask):
+        return _spherical_path(task)
     raise InputError(f"not a task of {', '.join(KINDS)}: {type(task).__name__}")
+
+
+def _spherical_path(task: SphericalPathTask) -> SpatialSynthesis:
+    """Every spherical four-bar through the points, each moved to them by the spatial solver."""
+    r = spherepath.spherical_path(task.points, dict(task.fixed) or None, task.method, task.starts, task.seed)
+    lines = [r.message.split(": ", 1)[1]] + [f"  note: {n}" for n in r.notes]
+    for k, s in enumerate(r.solutions, 1):
+        check = "" if s.check is None else (f"; coupler point off the path by {s.check.error:.2g}"
+                                            + (f"; {', '.join(s.check.defects)} defect" if s.check.defects else ""))
+        lines.append(f"  {k}. a0 {_fmt(s.a0)}, a1 {_fmt(s.a1)}, b0 {_fmt(s.b0)}, b1 {_fmt(s.b1)}; residual "
+                     f"{s.residual:.1e}{check}")
+    mechs = tuple(s.mechanism(task.points[0], f"{task.name} solution {k}") for k, s in enumerate(r.solutions, 1))
+    return SpatialSynthesis(task.name, "spherical-path", r.status, tuple(lines), mechs, r.worst, {
+        "method": r.method, "starts": r.starts, "equations": r.equations, "unknowns": r.unknowns,
+        "given": list(r.given), "solutions": [
+            {"a0": s.a0.tolist(), "a1": s.a1.tolist(), "b0": s.b0.tolist(), "b1": s.b1.tolist(),
+             "spins_deg": [math.degrees(b) for b in s.spins], "residual": s.residual,
+             "check_error": None if s.check is None else s.check.error,
+             "inputs_deg": None if s.check is None else [math.degrees(t) for t in s.check.inputs],
+             "defects": [] if s.check is None else list(s.check.defects)} for s in r.solutions]})
 
 
 def _spherical(task: SphericalGeneratorTask) -> SpatialSynthesis:
@@ -193,5 +245,5 @@ def _spherical(task: SphericalGeneratorTask) -> SpatialSynthesis:
                                 for s in r.solutions]})
 
 
-__all__ = ["KINDS", "RSSRFunctionTask", "SphericalGeneratorTask", "TASKS", "solve", "spherical_generator_task",
-           "task_from_dict"]
+__all__ = ["KINDS", "RSSRFunctionTask", "SphericalGeneratorTask", "SphericalPathTask", "TASKS", "solve",
+           "spherical_generator_task", "task_from_dict"]
