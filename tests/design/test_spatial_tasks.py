@@ -184,3 +184,24 @@ def test_spherical_path_task_mistakes_are_named(tmp_path):
     with pytest.raises(InputError, match="normalise"):
         from domes.design.synthesis.spatialtask import solve_spatial
         solve_spatial(load_spatial_task(path))
+
+
+def test_an_rrss_path_task_finds_the_linkage_it_came_from(capsys):
+    """Seed 002 §2-3, Fig. 2-25, Table 2-3: five points in space with six free choices (u0x, a0, b0x, b0y); the
+    points are the coupler point of the RRSS named in the file's comment, which is among the solutions (axes up
+    to their sign), driven through the points by the spatial solver."""
+    status, out, _ = run(capsys, "examples/synthesis/rrss-path-five.json", "--format", "json")
+    doc = json.loads(out)
+    truth = {"u0": (0.018681, 0.742907, 0.669134), "u1": (-0.644292, -0.376203, -0.665852),
+             "a1": (-1.235255, -1.388621, 1.626787), "b0": (0.04556, 0.651372, -0.898765),
+             "b1": (-1.086096, 0.864119, 0.511082)}
+    assert status == 0 and doc["method"] == "conic"
+
+    def coords(s, name):
+        return np.array([s[name + c] for c in "xyz"])
+
+    hits = [s for s in doc["solutions"]
+            if all(abs(abs(coords(s, k) @ np.array(truth[k])) - 1) < 1e-5 for k in ("u0", "u1"))
+            and all(np.allclose(coords(s, k), truth[k], atol=1e-5) for k in ("a1", "b0", "b1"))]
+    assert len(hits) == 1 and hits[0]["path_error"] < 1e-8
+    assert all(s["residual"] < 1e-9 for s in doc["solutions"]) and len(doc["mechanisms"]) == len(doc["solutions"])

@@ -17,7 +17,10 @@ solution, the method used and each solution's check by the spatial backend
 - ``spherical-path``: a spherical four-bar whose coupler point passes
   through 2 to 9 points on the unit sphere, Table 2-2's free choices in
   ``fixed`` (spins ``beta12`` .. in degrees)
-  (:mod:`~domes.design.synthesis.spherepath`).
+  (:mod:`~domes.design.synthesis.spherepath`);
+- ``rrss-path``: an RRSS whose coupler point passes through 2 to 7 points in
+  space, Table 2-3's free choices in ``fixed`` (``u0x`` .. ``b1z``)
+  (:mod:`~domes.design.synthesis.rrss`).
 
 >>> t = task_from_dict({"kind": "rssr-function", "input_axis": {"point": [0, 0, 0], "direction": [0, 0, 1]},
 ...     "output_axis": {"point": [5, 1, 0], "direction": [1, 0, 0]},
@@ -34,13 +37,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from domes.design.synthesis import rssrfg, sphere, spherepath
+from domes.design.synthesis import rrss, rssrfg, sphere, spherepath
 from domes.design.synthesis.spatialresult import SpatialSynthesis, spherical_fourbar, vector
 from domes.errors import InputError
 from domes.model.fields import check_keys, read_number
 from domes.results import Progress, Status
 
-KINDS = ("rssr-function", "spherical-path")
+KINDS = ("rssr-function", "spherical-path", "rrss-path")
 
 
 @dataclass(frozen=True)
@@ -82,7 +85,19 @@ class SphericalPathTask:
     seed: int = 0
 
 
-TASKS = (RSSRFunctionTask, SphericalGeneratorTask, SphericalPathTask)
+@dataclass(frozen=True)
+class RRSSPathTask:
+    """An RRSS path generation task: points in space, the given first-position coordinates."""
+
+    name: str
+    points: np.ndarray
+    fixed: tuple[tuple[str, float], ...]
+    method: str = "auto"
+    starts: int = 512
+    seed: int = 0
+
+
+TASKS = (RSSRFunctionTask, SphericalGeneratorTask, SphericalPathTask, RRSSPathTask)
 
 
 def _axis(value, where: str) -> tuple[np.ndarray, np.ndarray]:
@@ -143,6 +158,18 @@ def task_from_dict(data: dict, where: str = "task"):
         return SphericalPathTask(name, np.array([vector(p, 3, f"{where}: points[{k}]") for k, p in enumerate(raw)]),
                                  fixed, method, _count(data, "starts", spherepath.STARTS, 1, 100_000, where),
                                  _count(data, "seed", 0, 0, 2**31 - 1, where))
+    if kind == "rrss-path":
+        check_keys(data, {"kind", "name", "comment", "points", "fixed", "method", "starts", "seed"},
+                   {"kind", "points", "fixed"}, where)
+        raw = data["points"]
+        if not isinstance(raw, list) or not 2 <= len(raw) <= rrss.MOST:
+            raise InputError(f"{where}: points: 2 to {rrss.MOST} points [x, y, z] (Table 2-3; eight are refused: the problem does not split)")
+        method = data.get("method", "auto")
+        if method not in rrss.METHODS:
+            raise InputError(f"{where}: method: one of {', '.join(rrss.METHODS)}, got {method!r}")
+        return RRSSPathTask(name, np.array([vector(p, 3, f"{where}: points[{k}]") for k, p in enumerate(raw)]),
+                            _fixed(data, where), method, _count(data, "starts", 512, 1, 100_000, where),
+                            _count(data, "seed", 0, 0, 2**31 - 1, where))
     raise InputError(f"{where}: unknown kind {kind!r}")
 
 
@@ -199,6 +226,8 @@ def solve(task, progress: Progress | None = None) -> SpatialSynthesis:
         return _spherical(task)
     if isinstance(task, SphericalPathTask):
         return _spherical_path(task)
+    if isinstance(task, RRSSPathTask):
+        return _rrss_path(task)
     raise InputError(f"not a task of {', '.join(KINDS)}: {type(task).__name__}")
 
 
@@ -220,6 +249,28 @@ def _spherical_path(task: SphericalPathTask) -> SpatialSynthesis:
              "check_error": None if s.check is None else s.check.error,
              "inputs_deg": None if s.check is None else [math.degrees(t) for t in s.check.inputs],
              "defects": [] if s.check is None else list(s.check.defects)} for s in r.solutions]})
+
+
+def _rrss_path(task: RRSSPathTask) -> SpatialSynthesis:
+    """Every RRSS the method reaches, each driven through the points by the spatial solver."""
+    r = rrss.rrss_path(task.points, dict(task.fixed), task.method, task.starts, task.seed)
+    lines = [r.message]
+    for k, s in enumerate(r.solutions, 1):
+        if not math.isfinite(s.path_error):
+            reached = f"not driven through every point ({s.reach})"
+        elif s.path_error <= 1e-6:
+            reached = f"driven through the points, off by {s.path_error:.2g} of the size"
+        else:
+            reached = (f"branch defect: driven from position 1 it misses a point by {s.path_error:.2g} of the "
+                       "size (the equations hold on another branch)")
+        lines.append(f"  {k}. u0 {_fmt(s.u0)} through a0 {_fmt(s.a0)}, u1 {_fmt(s.u1)} through a1 {_fmt(s.a1)}, "
+                     f"b0 {_fmt(s.b0)}, b1 {_fmt(s.b1)}; residual {s.residual:.1e}; {reached}")
+    return SpatialSynthesis(task.name, "rrss-path", r.status, tuple(lines), tuple(s.mechanism() for s in r.solutions),
+                            r.worst, {"method": r.method, "starts": r.starts, "converged": r.converged,
+                                      "solutions": [{**s.values(), "residual": s.residual,
+                                                     "path_error": s.path_error, "reach": s.reach,
+                                                     "thetas_deg": [math.degrees(t) for t in s.thetas]}
+                                                    for s in r.solutions]})
 
 
 def _spherical(task: SphericalGeneratorTask) -> SpatialSynthesis:
@@ -245,5 +296,5 @@ def _spherical(task: SphericalGeneratorTask) -> SpatialSynthesis:
                                 for s in r.solutions]})
 
 
-__all__ = ["KINDS", "RSSRFunctionTask", "SphericalGeneratorTask", "SphericalPathTask", "TASKS", "solve",
+__all__ = ["KINDS", "RRSSPathTask", "RSSRFunctionTask", "SphericalGeneratorTask", "SphericalPathTask", "TASKS", "solve",
            "spherical_generator_task", "task_from_dict"]
