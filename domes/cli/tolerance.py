@@ -32,24 +32,10 @@ from __future__ import annotations
 import argparse
 import math
 
-import numpy as np
-
 from domes.cli.common import parallel_options, progress_printer, write_document
 from domes.cli.kinematics import parse_sweep
-from domes.design import clearance as play
-from domes.design.tolerance import (
-    DISTRIBUTIONS,
-    MAX_INPUTS,
-    REASONS,
-    Tolerancing,
-    compare,
-    largest,
-    monte_carlo,
-    sensitivity,
-)
 from domes.errors import InputError
 from domes.execution import InProcess, executor
-from domes.io.mechanisms import load_mechanism
 
 #: Monte Carlo and first order agree when their standard deviations are this close (the issue's 5%).
 AGREE = 0.05
@@ -58,10 +44,18 @@ SHORT = {"singular": "dead point (singular)", "reach": "the tolerances reach a d
          "unmade": "a link cannot be made", "nonlinear": "not linear over the tolerances"}
 
 
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "tolerance": "output error of a mechanism made to tolerances: first order and Monte Carlo, dimensions ranked",
+}
+
+
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.design.tolerance import DISTRIBUTIONS
+
     p = sub.add_parser(
         "tolerance",
-        help="output error of a mechanism made to tolerances: first order and Monte Carlo, dimensions ranked",
+        help=COMMANDS["tolerance"],
         description="Tolerance sensitivity (the redesign step): the error of one output over the input's range "
         "caused by tolerances on the link lengths, pivot positions and slide lines; by first order (derivatives, "
         "worst case and standard deviation) and by Monte Carlo (seeded batches, on --workers), compared; the "
@@ -81,10 +75,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--set", action="append", default=[], metavar="NAME=T",
                    help="the tolerance of one dimension (names as listed; angles in degrees), repeatable")
     p.add_argument("--clearance", action="append", default=[], metavar="JOINT=C",
-                   help="the radial clearance of one revolute joint (file units; over --clearance-all), repeatable")
+                   help="the clearance of one joint (file units; over --clearance-all), repeatable: a revolute joint's "
+                   "radial clearance, or a slide's lateral play (half the guide's width less the block's)")
     p.add_argument("--clearance-all", type=float, metavar="C",
-                   help="the radial clearance of every revolute joint (file units): the pin rests on its hole's wall "
-                   "in a random direction (contact mode); its effect is added to the tolerances'")
+                   help="the clearance of every revolute joint and slide on the frame (file units): the pin rests on "
+                   "its hole's wall in a random direction, the block shifted and tilted in its guide with a corner on "
+                   "a wall (contact mode); its effect is added to the tolerances'")
+    p.add_argument("--block", action="append", default=[], metavar="JOINT=L",
+                   help="the length of a slide's block (file units), repeatable: needed where its tilt moves its pin "
+                   "(the pin away from the slide point) or the output")
     p.add_argument("--distribution", choices=DISTRIBUTIONS, default="normal",
                    help="normal: σ = T/3 (default); uniform: anywhere within ± T")
     p.add_argument("--samples", type=int, default=100_000, help="Monte Carlo samples (default 100000; 0: first order only)")
@@ -121,6 +120,12 @@ def _overrides(items: list[str], option: str = "--set", example: str = "NAME=TOL
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from domes.design import clearance as play
+    from domes.design.tolerance import MAX_INPUTS, Tolerancing, compare, monte_carlo, sensitivity
+    from domes.io.mechanisms import load_mechanism
+
     mech = load_mechanism(args.file)
     if args.samples < 0:
         raise InputError(f"--samples must be >= 0, got {args.samples}")
@@ -153,7 +158,11 @@ def run(args: argparse.Namespace) -> int:
         overrides = {k: math.radians(v) if kinds.get(k) == "angle" else v for k, v in overrides.items()}
         tol = Tolerancing(mech, args.output, inputs, tolerance=args.tolerance, relative=args.relative,
                           tolerances=overrides)
-    cl = play.Clearances(tol, played, args.clearance_all) if played or args.clearance_all is not None else None
+    blocks = _overrides(args.block, "--block", "JOINT=LENGTH (e.g. S=0.4)")
+    cl = (play.Clearances(tol, played, args.clearance_all, blocks=blocks) if played or args.clearance_all is not None
+          else None)
+    if blocks and cl is None:
+        raise InputError("--block: give the slide a clearance too (--clearance JOINT=C or --clearance-all C)")
     if cl is not None and not len(cl):
         cl = None                                              # every clearance 0: tolerances only
     if cl is None and not np.any(tol.bands > 0):
@@ -206,6 +215,11 @@ def _rows(doc: dict):
 
 
 def _document(args, tol, first, mc, scan, allocated, scale, joint, angular, total=None) -> dict:
+    import numpy as np
+
+    from domes.design import clearance as play
+    from domes.design.tolerance import REASONS, largest
+
     unit = "deg" if scale != 1.0 else "length"
     dims = []
     slope = largest(np.abs(first.gradient), axis=(0, 1))
@@ -255,8 +269,9 @@ def _document(args, tol, first, mc, scan, allocated, scale, joint, angular, tota
            "first_order_valid": bool(first.valid.all()), "first_order_not_valid": first.not_valid,
            "ignored": list(tol.ignored)}
     if total is not None:
-        doc["clearances"] = {"model": play.MODEL, "joints": [{"joint": c.joint, "clearance": c.clearance,
-                                                             "carrier": c.carrier} for c in total.clearances]}
+        doc["clearances"] = {"model": play.MODEL, "joints": [{"joint": c.joint, "kind": c.kind, "clearance": c.clearance,
+                                                             "carrier": c.carrier, "block": c.block}
+                                                            for c in total.clearances]}
     if mc is not None:
         with np.errstate(invalid="ignore", divide="ignore"):    # no spread at all: no ratio
             ratio = mc.std / std
@@ -313,7 +328,8 @@ def _text(out, doc) -> None:
     played = sum(d["kind"] == "clearance" for d in doc["dimensions"])
     out.write(f"# {doc['mechanism']}: {doc['output']} ({unit}) at {len({r['input'] for r in rows})} input values of "
               f"{doc['input']} ({of_input}); {len(doc['dimensions']) - played} dimensions, "
-              + (f"{played} clearances (contact mode: |e| = clearance, any direction), " if played else "")
+              + (f"{played} clearances (contact mode: |e| = clearance, any direction; a block: |u| + |w| = "
+                 "clearance), " if played else "")
               + f"{doc['distribution']} ({'σ = tolerance/3' if doc['distribution'] == 'normal' else 'within ± tolerance'})\n")
     alloc = "allocate" in doc
     out.write((f"#   {'dimension':<20s} {'unit':>10s} {'nominal':>12s} {'± tolerance':>12s} {'share':>7s} "
@@ -339,7 +355,10 @@ def _text(out, doc) -> None:
         out.write(" " + " ".join(cells) + (f"   {r['column']}" if columns else "") + note + "\n")
     out.write(f"# first order: {doc['first_order']}\n")
     if "clearances" in doc:
-        carried = ", ".join(f"{c['joint']} on {c['carrier']}" for c in doc["clearances"]["joints"])
+        carried = ", ".join(f"{c['joint']} on {c['carrier']}" if c.get("kind", "R") == "R" else
+                            f"{c['joint']} the block {c['carrier']}"
+                            + (f" ({c['block']:g} long)" if c.get("block") is not None else " (centred on its pin)")
+                            for c in doc["clearances"]["joints"])
         out.write(f"#   clearances (each offset carried by a link: {carried}) add to the tolerances: worst cases "
                   "sum, σ root-sum-square; worst case and 3σ first above are the two together\n")
     if doc["ignored"]:

@@ -1,4 +1,4 @@
-"""Joint clearances: the output error of a mechanism whose revolute joints have play, with its tolerances.
+"""Joint clearances: the output error of a mechanism whose joints have play, with its tolerances.
 
 The redesign step of seed 002 §7-1 treats "both link-length tolerances and
 joint clearances ... usually by the principle of virtual work". A revolute
@@ -21,20 +21,52 @@ again a rigid linkage, the carrier's joint point moved by ``e_J`` (an
 effective link length), so each sample is evaluated exactly by the
 tolerance model (:class:`~domes.design.tolerance.Tolerancing`).
 
+A *slide on the frame* ``S`` (a prismatic pair: a block of length ``L_S``
+in a guide ``2 c_S`` wider than it) is taken in contact mode too, after the
+translational clearance joint of Flores, Ambrósio, Claro & Lankarani
+("Translational joints with clearance in rigid multibody systems", J.
+Comput. Nonlinear Dynam. 3, 011007, 2008): the block's centre (the slide
+point, the joint's ``at``) is ``u`` off the guide's mid-line and the block
+is tilted by ``α``. With ``w = (L_S/2) α``, the lateral shift of its ends
+by the tilt, the ends are at ``u ± w`` and stay within the guide when
+``|u| + |w| <= c_S``: the block can shift by up to ``c_S`` and tilt by up
+to ``2 c_S / L_S``. In contact a corner touches a wall: ``(u, w)`` is on the
+square ``|u| + |w| = c_S``, whose corners are the two-point contacts (flat
+on one wall, ``u = ±c_S``; tilted across the guide, two opposite corners
+on the walls, ``w = ±c_S``), the worst cases of a linear output. The
+random model takes the state uniform on the square (``u`` uniform on
+``[−c_S, c_S]``, ``|w| = c_S − |u|``, the tilt's sign at random),
+independent between joints and poses, as a pin's direction is. The
+block's pin moves with it (its height above the line by ``u − a_t sin α +
+a_n (1 − cos α)``, ``(a_t, a_n)`` the slide point from the pin along and
+across the line): the slide's offset dimension carries it exactly; a
+slide output, read at the block's centre, is corrected by
+``(cos α − 1) a_t − a_n sin α`` and the slider's angle by ``α``. The block
+length is needed only where the tilt moves something (the pin away from
+the slide point, or the slider's angle watched): ``blocks={"S": L}``,
+refused by name when needed and missing; else the block is taken as
+centred on its pin and only ``u`` acts. A slide between two moving links
+takes no clearance.
+
 * :func:`budget` (first order): ``G_J = ∂y/∂e_J`` at every input (a
   2-vector per joint and input, from the dimensions' derivatives by the
-  chain rule), the worst case ``Σ c_J |G_J|``, the standard deviation
-  ``√Σ c_J² |G_J|² / 2`` (``Var(G·e) = c²|G|²/2`` for a uniform direction),
-  and the combined budget with the tolerances (worst cases add, variances
-  add), every dimension and joint ranked by its share. By virtual work,
+  chain rule; for a slide ``(∂y/∂u, ∂y/∂w)``), the worst case
+  ``Σ c_J |G_J|`` (for a slide ``c_S max(|∂y/∂u|, |∂y/∂w|)``, the square's
+  corners), the standard deviation ``√Σ c_J² |G_J|² / k_J`` (``k = 2`` for a
+  pin: ``Var(G·e) = c²|G|²/2`` for a uniform direction; ``k = 3`` for a
+  block: ``E u² = E w² = c²/3``, ``E uw = 0`` on the square), and the
+  combined budget with the tolerances (worst cases add, variances add),
+  every dimension and joint ranked by its share. By virtual work,
   ``G_J = −F_J`` where ``F_J`` is the reaction the joint's first link exerts
   on its second under a unit load conjugate to the output, the input held
-  (tested against :func:`~domes.design.dynamics.inverse_dynamics`).
-* :func:`monte_carlo`: random dimensions and random clearance directions
-  in the seeded batches of :func:`domes.design.tolerance.monte_carlo`; each
-  sample keeps its directions (relative to the carriers) at every input, so
-  each input's statistics are the model's (a ``spec`` counts samples off at
-  some input with their pins so kept).
+  (tested against :func:`~domes.design.dynamics.inverse_dynamics`; for a
+  slide: the guide's normal force and its moment about the slide point).
+* :func:`monte_carlo`: random dimensions and random clearance states (a
+  direction per pin, a point of the square per block) in the seeded batches
+  of :func:`domes.design.tolerance.monte_carlo`; each sample keeps its
+  states (relative to the carriers) at every input, so each input's
+  statistics are the model's (a ``spec`` counts samples off at some input
+  with their pins so kept).
 * :func:`compare`: both with the clearances and tolerances scaled: where
   first order and Monte Carlo part.
 
@@ -42,11 +74,11 @@ tolerance model (:class:`~domes.design.tolerance.Tolerancing`).
 >>> from domes.design.tolerance import Tolerancing
 >>> tol = Tolerancing(slider_crank(), "slide:S", np.radians([0.0, 90.0]), tolerance=0.0)
 >>> cl = Clearances(tol, every=1e-3)
->>> [(c.joint, c.carrier) for c in cl]
-[('A', 'frame'), ('B', 'rod'), ('C', 'rod')]
+>>> [(c.joint, c.kind, c.carrier) for c in cl]
+[('A', 'R', 'frame'), ('B', 'R', 'rod'), ('C', 'R', 'rod'), ('S', 'P', 'slider')]
 >>> b = budget(cl)
->>> [round(float(x), 6) for x in b.worst[0]]          # 3 c / cos φ: 3e-3 at 0°, 3e-3 · 3/√8 at 90°
-[0.003, 0.003182]
+>>> [round(float(x), 6) for x in b.worst[0]]          # 3 c / cos φ + c tan φ: 3e-3 at 0°, 1e-2/√8 at 90°
+[0.003, 0.003536]
 >>> mc = monte_carlo(cl, 20_000, seed=1)
 >>> bool(np.all(abs(mc.std / b.std - 1) < 0.05)), mc.failed
 (True, 0)
@@ -68,53 +100,82 @@ from domes.results import Progress, Result, Status
 PREFIX = "clearance:"
 #: The clearance model, in words (the command's documents carry it).
 MODEL = ("contact mode (Ting, Zhu & Watkins 2000): the pin on its hole's wall, |e| = clearance, direction uniform "
-         "and independent between joints and poses, the offset carried by one of the joint's links")
+         "and independent between joints and poses, the offset carried by one of the joint's links; a slide's block "
+         "(Flores et al. 2008) shifted by u and tilted by 2w/L in its guide with a corner on a wall, |u| + |w| = "
+         "clearance, uniform on that square")
 
 
 @dataclass(frozen=True)
 class Clearance:
-    """A revolute joint's radial clearance ``clearance`` (file units); ``carrier`` is the link whose joint point
-    the offset moves (the frame for a pivot on the frame)."""
+    """A joint's clearance ``clearance`` (file units): a revolute joint's radial clearance (``kind`` ``"R"``;
+    ``carrier`` is the link whose joint point the offset moves, the frame for a pivot on the frame), or a slide's
+    lateral play, half the guide's width less the block's (``kind`` ``"P"``; ``carrier`` the block, ``block`` its
+    length, None where its tilt moves nothing)."""
 
     joint: str
     clearance: float
     carrier: str
+    kind: str = "R"
+    block: float | None = None
 
 
 class Clearances:
     """The clearances of a :class:`~domes.design.tolerance.Tolerancing`'s mechanism: ``every`` for each revolute
-    joint, ``clearances`` (joint name -> clearance, file units) for named ones (over ``every``); 0 is none.
+    joint and each slide on the frame, ``clearances`` (joint name -> clearance, file units) for named ones (over
+    ``every``); 0 is none. ``blocks`` (slide -> its block's length, file units) where a block's tilt moves
+    something (its pin away from the slide point, or the slider's angle watched).
 
     Iterating gives the :class:`Clearance` of each joint with play, in the file's order. Each clearance must be
     small beside its joint's links (at most :data:`~domes.design.tolerance.LARGEST` of the shortest distance from
-    the joint to another joint or point of the link that carries the offset, of the moving link's for a pivot;
-    ``check=False`` skips this, for a scan beyond it).
+    the joint to another joint or point of the link that carries the offset, of the moving link's for a pivot; a
+    slide's, of the mechanism's size and of half its block, a tilt of at most that many radians; ``check=False``
+    skips this, for a scan beyond it).
+
+    >>> from domes.io.mechanisms import load_mechanism
+    >>> tol = Tolerancing(load_mechanism("examples/mechanisms/slider-crank.json"), "slide:S", [0.0], tolerance=0.0)
+    >>> Clearances(tol, {"S": 1e-3}).items
+    (Clearance(joint='S', clearance=0.001, carrier='slider', kind='P', block=None),)
     """
 
     def __init__(self, tol: Tolerancing, clearances: dict | None = None, every: float | None = None,
-                 check: bool = True):
+                 check: bool = True, blocks: dict | None = None):
         mech = tol.mech
         self.tolerancing = tol
         revolute = [j.name for j in mech.joints if j.kind == "R"]
+        slides = [j.name for j in mech.joints if j.kind == "P" and mech.ground in j.links]
+        played = [j.name for j in mech.joints if j.name in revolute or j.name in slides]     # the file's order
         given = {}
         if every is not None:
-            given = {name: _value(every, "every joint") for name in revolute}
+            given = {name: _value(every, "every joint") for name in played}
         names = {j.name: j for j in mech.joints}
         for name, value in (clearances or {}).items():
             if name not in names:
                 raise InputError(f"clearance: {name!r} is not a joint of {mech.name}; its revolute joints are "
-                                 f"{', '.join(revolute)}")
-            if names[name].kind != "R":
-                raise InputError(f"clearance: {name} is a {names[name].kind} joint; a clearance is taken at a "
-                                 f"revolute joint ({', '.join(revolute)})")
+                                 f"{', '.join(revolute)}" + (f"; its slides on the frame {', '.join(slides)}"
+                                                             if slides else ""))
+            if name not in played:
+                raise InputError(f"clearance: {name} slides between two moving links ({', '.join(names[name].links)}); "
+                                 f"a clearance is taken at a revolute joint ({', '.join(revolute)}) or a slide on the "
+                                 f"frame{' (' + ', '.join(slides) + ')' if slides else ''}")
             given[name] = _value(value, name)
+        lengths = {}
+        for name, value in (blocks or {}).items():
+            if name not in slides:
+                raise InputError(f"clearance: a block length is given for {name!r}, which is not a slide on the frame "
+                                 f"of {mech.name} ({', '.join(slides) or 'it has none'})")
+            lengths[name] = _value(value, f"the block of {name}")
+            if not lengths[name] > 0:
+                raise InputError(f"clearance: the block of {name} must be longer than 0, got {value!r}")
         self._on_link = {link: [j.name for j in mech.joints_of(link) if j.kind == "R"] +
                          [p.name for p in mech.points if p.link == link] for link in mech.links}
         self._at = {j.name: np.array(j.at, dtype=float) for j in mech.joints if j.kind == "R"}
         self._at.update({p.name: np.array(p.at, dtype=float) for p in mech.points})
+        self._slot = {}                                          # slide -> the slide point from its pin (a_t, a_n)
         items = []
-        for name in revolute:
-            if given.get(name, 0.0) > 0.0:
+        for name in played:
+            if given.get(name, 0.0) > 0.0 and name in slides:
+                items.append(self._slide(name, given[name], lengths.get(name), check))
+            elif given.get(name, 0.0) > 0.0:
                 carrier = self._carrier(name)
                 if check:
                     self._small(name, given[name], carrier)
@@ -136,6 +197,30 @@ class Clearances:
     def values(self) -> np.ndarray:
         """Each joint's clearance, in the order of :attr:`items`."""
         return np.array([c.clearance for c in self.items], dtype=float)
+
+    @property
+    def slides(self) -> np.ndarray:
+        """``(K,)``: which clearances are a slide's (a block in its guide), in the order of :attr:`items`."""
+        return np.array([c.kind == "P" for c in self.items], dtype=bool)
+
+    def states(self, angles: np.ndarray) -> np.ndarray:
+        """``(M, K, 2)`` contact states from ``(M, K)`` numbers uniform on ``[0, 2π)``: a pin's offset
+        ``c (cos, sin)``; a block's ``(u, w)`` on the square ``|u| + |w| = c``, uniform along it (from the corner
+        ``(c, 0)`` through ``(0, c)``, a quarter of the turn per side).
+
+        >>> from domes.motion.planar.examples import slider_crank
+        >>> cl = Clearances(Tolerancing(slider_crank(), "slide:S", [0.0], tolerance=0.0), {"A": 1.0, "S": 0.01},
+        ...                 check=False)
+        >>> cl.states(np.array([[np.pi / 2, np.pi / 4]])).round(6).tolist()     # A along y; S half way to (0, c)
+        [[[0.0, 1.0], [0.005, 0.005]]]
+        """
+        angles = np.asarray(angles, dtype=float)
+        c = self.values
+        side = angles * (2.0 / math.pi)                         # 0..4 around the square
+        triangle = lambda p: np.abs(np.mod(p, 4.0) - 2.0) - 1.0    # noqa: E731  1, 0, -1, 0 at 0, 1, 2, 3
+        square = np.stack([triangle(side), triangle(side - 1.0)], axis=-1)
+        circle = np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+        return c[:, None] * np.where(self.slides[:, None], square, circle)
 
     # -- the model ------------------------------------------------------------------------------
 
@@ -189,15 +274,50 @@ class Clearances:
                              f"from {joint} to {near} on {link}: a first-order estimate means nothing there; give at "
                              f"most {LARGEST * distance:.4g} ({LARGEST:g} of it)")
 
+    def _slide(self, joint: str, value: float, block: float | None, check: bool) -> Clearance:
+        """A slide's clearance: its block (the slider), the pin's place on it, and whether the tilt matters."""
+        tol, mech = self.tolerancing, self.tolerancing.mech
+        j = mech.joint(joint)
+        slider = j.links[1] if j.links[0] == mech.ground else j.links[0]
+        pin = self._on_link[slider][0]                          # the tolerance model takes exactly one
+        t = np.array([math.cos(j.direction), math.sin(j.direction)])
+        slot = np.array(j.at, dtype=float) - self._at[pin]       # the slide point (the block's centre) from the pin
+        along, across = float(slot @ t), float(_cross(t, slot))
+        apart = math.hypot(along, across) > 1e-9 * tol.size
+        kind, _, target = tol.output.partition(":")
+        if block is None and (apart or (kind == "angle" and target == slider)):
+            why = (f"its pin {pin} is {math.hypot(along, across):.4g} from the slide point" if apart
+                   else f"the output is the angle of its block {slider}")
+            raise InputError(f"clearance: the block length of slide {joint} is needed ({why}, so the block's tilt in "
+                             f"its guide moves it); give it (blocks={{{joint!r}: L}}; the command's --block "
+                             f"{joint}=L)")
+        if check:
+            limit = LARGEST * min(tol.size, math.inf if block is None else block / 2)
+            if value > limit:
+                raise InputError(f"clearance: {value:.4g} at {joint} is not small beside "
+                                 + (f"half its block, {block / 2:.4g}" if block is not None and block / 2 < tol.size
+                                    else f"the mechanism's size {tol.size:.4g}")
+                                 + f": a first-order estimate means nothing there; give at most {limit:.4g} "
+                                 f"({LARGEST:g} of it)")
+        self._slot[joint] = (along, across)
+        return Clearance(joint, value, slider, "P", block)
+
     def _plan(self) -> None:
         """Which dimensions each offset changes: a pivot's ``x`` and ``y``; a carrier link's lengths to the moved
         point (the link's shape rebuilt from its lengths, so that it holds with tolerances too)."""
         tol, mech = self.tolerancing, self.tolerancing.mech
         index = {d.name: k for k, d in enumerate(tol.dimensions)}
-        self._pivots, self._bodies = [], []
+        self._pivots, self._bodies, self._blocks = [], [], []
+        kind, _, target = tol.output.partition(":")
         carried = {}
         for k, c in enumerate(self.items):
-            if c.carrier == mech.ground:
+            if c.kind == "P":                                   # (k, offset dim, 2/L, a_t, a_n, output's reading)
+                along, across = self._slot[c.joint]
+                reads = ("slide" if kind == "slide" and target == c.joint else
+                         "angle" if kind == "angle" and target == c.carrier else "")
+                self._blocks.append((k, index[f"{c.joint}.offset"], 0.0 if c.block is None else 2.0 / c.block,
+                                     along, across, reads))
+            elif c.carrier == mech.ground:
                 self._pivots.append((k, index[f"{c.joint}.x"], index[f"{c.joint}.y"]))
             else:
                 carried.setdefault(c.carrier, []).append(k)
@@ -222,20 +342,47 @@ class Clearances:
 
     def displace(self, values: np.ndarray, offsets: np.ndarray) -> np.ndarray:
         """Dimension rows ``(M, D)`` of the mechanism whose carriers' joint points are moved by ``offsets``
-        (``(M, K, 2)``, in each carrier's frame as drawn): exact, the links' shapes rebuilt from their lengths."""
+        (``(M, K, 2)``, in each carrier's frame as drawn; a slide's ``(u, w)``, its block shifted by ``u`` and
+        tilted by ``2w/L``): exact, the links' shapes rebuilt from their lengths."""
         values = np.asarray(values, dtype=float)
         offsets = np.asarray(offsets, dtype=float)
         return self._displace(values, offsets)[0]
 
+    def evaluate(self, offsets: np.ndarray, values: np.ndarray | None = None) -> dict:
+        """The output's columns (name -> ``(M, N)``) of the mechanism made to the dimension rows ``values`` (the
+        nominal when None) with its joints in the states ``offsets`` (as :meth:`displace`): exact, a slide or an
+        angle read on the block or the output's line, not the model's."""
+        offsets = np.asarray(offsets, dtype=float)
+        if values is None:
+            values = np.broadcast_to(self.tolerancing.nominal, (len(offsets), self.tolerancing.nominal.size))
+        return self._columns(np.asarray(values, dtype=float), offsets)[0]
+
+    def _columns(self, values, offsets, roots: bool = False):
+        """:meth:`Tolerancing._outcome` of the displaced rows, the output corrected (see :meth:`_displace`)."""
+        tol = self.tolerancing
+        rows, correction = self._displace(values, offsets)
+        columns, outcome, smallest = Tolerancing._outcome(tol, rows, roots)
+        if tol.output.startswith(("angle:", "slide:")):                 # the link's own line, the block's centre
+            columns = {name: v + correction[:, None] for name, v in columns.items()}
+        return columns, outcome, smallest
+
     def _displace(self, values, offsets) -> tuple[np.ndarray, np.ndarray]:
-        """The dimension rows, and the angle ``(M,)`` by which the model's line of the output's link is turned
-        back from the link's (0 unless an offset moves a joint of that line): the output angle's correction."""
+        """The dimension rows, and the correction ``(M,)`` of the output read from the model: for an angle, by
+        which the model's line of the output's link is turned back from the link's (0 unless an offset moves a
+        joint of that line) and a block's tilt for its angle; for a slide, the block's centre from the model's."""
         values = np.asarray(values, dtype=float)
         offsets = np.asarray(offsets, dtype=float)
         out, turn = values.copy(), np.zeros(len(values))
         for k, ix, iy in self._pivots:
             out[:, ix] += offsets[:, k, 0]
             out[:, iy] += offsets[:, k, 1]
+        for k, io, tilt, along, across, reads in self._blocks:
+            u, alpha = offsets[:, k, 0], offsets[:, k, 1] * tilt
+            out[:, io] += u - along * np.sin(alpha) + across * (1.0 - np.cos(alpha))    # the pin's height
+            if reads == "slide":
+                turn += (np.cos(alpha) - 1.0) * along - across * np.sin(alpha)
+            elif reads == "angle":
+                turn += alpha
         for body in self._bodies:
             local = _shape(values, body)                                      # (M, P, 2), p0 -> p1 along x
             c, s = math.cos(body["angle"]), math.sin(body["angle"])
@@ -246,7 +393,7 @@ class Clearances:
                 out[:, d] = np.hypot(*(local[:, a] - local[:, b]).T)
             if body is self._measuring:                                      # the link's own line is along +x
                 line = local[:, 1] - local[:, 0]
-                turn = -np.arctan2(line[:, 1], line[:, 0])
+                turn = turn - np.arctan2(line[:, 1], line[:, 0])
         return out, turn
 
     def jacobian(self) -> np.ndarray:
@@ -255,6 +402,8 @@ class Clearances:
         jac = np.zeros((tol.nominal.size, len(self.items), 2))
         for k, ix, iy in self._pivots:
             jac[ix, k, 0] = jac[iy, k, 1] = 1.0
+        for k, io, tilt, along, _across, _reads in self._blocks:
+            jac[io, k] = (1.0, -along * tilt)
         for body in self._bodies:
             at = body["at"]
             for a, b, d in body["touched"]:
@@ -266,9 +415,11 @@ class Clearances:
         return jac
 
     def turning(self) -> np.ndarray:
-        """``(K, 2)``: the output angle's correction's derivative with respect to each offset (0 but for a joint on
-        the line of an output link that carries its offset)."""
+        """``(K, 2)``: the output's correction's derivative with respect to each offset (0 but for a joint on the
+        line of an output link that carries its offset, and a slide whose block's slide or angle is the output)."""
         out = np.zeros((len(self.items), 2))
+        for k, _io, tilt, _along, across, reads in self._blocks:
+            out[k, 1] = -across * tilt if reads == "slide" else tilt if reads == "angle" else 0.0
         body = self._measuring
         if body is not None:
             at, sign = body["at"], {0: 1.0, 1: -1.0}
@@ -316,9 +467,12 @@ class Budget(Result):
     """First-order budget of tolerances and clearances together, per column ``c`` and input.
 
     ``gradient[c]`` is ``(N, K, 2)``: ``∂y/∂e_J`` for each joint with play
-    (its offset in its carrier's frame as drawn; ``|G_J|`` is the same in
-    any frame). ``clearance_worst`` ``Σ c_J |G_J|`` and ``clearance_std``
-    ``√Σ c_J²|G_J|²/2``; ``worst`` and ``std`` add the tolerances'
+    (a pin's offset in its carrier's frame as drawn, ``|G_J|`` the same in
+    any frame; a slide's ``(∂y/∂u, ∂y/∂w)``, its block's shift and the shift
+    of its ends by its tilt). ``clearance_worst`` ``Σ c_J |G_J|`` (a slide's
+    ``|G|`` is ``max(|∂y/∂u|, |∂y/∂w|)``) and ``clearance_std``
+    ``√Σ c_J²|G_J|²/k_J`` (``k`` 2 for a pin, 3 for a block, each the
+    variance of its random state); ``worst`` and ``std`` add the tolerances'
     (:attr:`first`'s ``worst`` and ``std``): worst cases sum, variances add.
     ``names`` are the dimensions' names then ``clearance:J`` for each joint;
     ``share`` each one's part of the variance over inputs and columns.
@@ -341,8 +495,9 @@ class Budget(Result):
 
     @property
     def largest(self) -> np.ndarray:
-        """``(K,)``: each joint's largest ``|G_J|`` over the inputs and columns (output unit per file unit)."""
-        return _tolerance.largest(np.hypot(self.gradient[..., 0], self.gradient[..., 1]), axis=(0, 1))
+        """``(K,)``: each joint's largest ``|G_J|`` (its worst case per unit of clearance) over the inputs and
+        columns (output unit per file unit)."""
+        return _tolerance.largest(_size(self.gradient, self.clearances.slides), axis=(0, 1))
 
     @property
     def message(self) -> str:
@@ -373,9 +528,8 @@ def budget(cl: Clearances, distribution: str = "normal", first: Sensitivity | No
         raise InputError("clearance: the first-order analysis given is of another tolerancing")
     c = cl.values
     gradient = np.einsum("cnd,dkx->cnkx", first.gradient, cl.jacobian()) + cl.turning()   # (C, N, K, 2)
-    size = np.hypot(gradient[..., 0], gradient[..., 1])                       # (C, N, K)
-    worst_c = np.sum(size * c, axis=2)
-    var_c = size ** 2 * c ** 2 / 2.0
+    worst_c = np.sum(_size(gradient, cl.slides) * c, axis=2)                  # (C, N)
+    var_c = np.sum(gradient ** 2, axis=3) * c ** 2 / np.where(cl.slides, 3.0, 2.0)
     std_c = np.sqrt(np.sum(var_c, axis=2))
     sigma = tol.sigma(first.distribution)
     variance = np.concatenate([np.nansum((first.gradient * sigma) ** 2, axis=(0, 1)), np.nansum(var_c, axis=(0, 1))])
@@ -386,7 +540,8 @@ def budget(cl: Clearances, distribution: str = "normal", first: Sensitivity | No
 
 
 class _Played(Tolerancing):
-    """A tolerancing whose samples also carry a direction per clearance: rows of dimensions then angles."""
+    """A tolerancing whose samples also carry a number per clearance: rows of dimensions then uniform angles
+    (:meth:`Clearances.states`)."""
 
     def __init__(self, cl: Clearances):                                     # a view of the tolerancing: not re-built
         self.__dict__.update(cl.tolerancing.__dict__)
@@ -398,20 +553,14 @@ class _Played(Tolerancing):
 
     def _outcome(self, values, roots: bool = False):
         d = self.nominal.size
-        angle = values[:, d:]
-        offsets = self.clearances.values[None, :, None] * np.stack([np.cos(angle), np.sin(angle)], axis=2)
-        rows, turn = self.clearances._displace(values[:, :d], offsets)
-        columns, outcome, smallest = super()._outcome(rows, roots)
-        if self.output.startswith("angle:"):                           # the link's own line, not the model's
-            columns = {name: v + turn[:, None] for name, v in columns.items()}
-        return columns, outcome, smallest
+        return self.clearances._columns(values[:, :d], self.clearances.states(values[:, d:]), roots)
 
 
 def monte_carlo(cl: Clearances, samples: int = 100_000, seed: int = 0, distribution: str = "normal",
                 batch_size: int = BATCH, executor=None, progress: Progress | None = None,
                 spec: float | None = None) -> MonteCarlo:
-    """Monte Carlo over random dimensions and random clearance directions (``|e_J| = c_J``, uniform), in the
-    seeded batches of :func:`domes.design.tolerance.monte_carlo` (the same numbers whatever runs them).
+    """Monte Carlo over random dimensions and random clearance states (a pin's ``|e_J| = c_J`` in a uniform
+    direction, a block uniform on its square), in the seeded batches of :func:`domes.design.tolerance.monte_carlo` (the same numbers whatever runs them).
 
     >>> from domes.motion.planar.examples import four_bar
     >>> tol = Tolerancing(four_bar(), "angle:rocker", [0.0], tolerance=0.0)
@@ -428,13 +577,19 @@ def compare(cl: Clearances, scales=(1.0, 10.0, 100.0), samples: int = 20_000, se
     ``scales``: where they part."""
     out = []
     for scale in scales:
-        scaled = Clearances(_tolerance._scaled(cl.tolerancing, scale),
-                            {c.joint: c.clearance * scale for c in cl}, check=False)
+        scaled = Clearances(_tolerance._scaled(cl.tolerancing, scale), {c.joint: c.clearance * scale for c in cl},
+                            check=False, blocks={c.joint: c.block for c in cl if c.block is not None})
         first = budget(scaled, distribution)
         mc = monte_carlo(scaled, samples, seed, distribution, executor=executor)
         out.append(Comparison(scale, _rms(first.std), _rms(mc.std), mc.failed, bool(first.first.valid.all()),
                               mc.trusted))
     return out
+
+
+def _size(gradient: np.ndarray, slides: np.ndarray) -> np.ndarray:
+    """``(..., K)``: each clearance's worst error per unit of it: ``|G|`` for a pin (the worst direction), the
+    larger of ``|∂y/∂u|``, ``|∂y/∂w|`` for a block (the corners of its square)."""
+    return np.where(slides, np.max(np.abs(gradient), axis=-1), np.hypot(gradient[..., 0], gradient[..., 1]))
 
 
 def _rms(a) -> float:
