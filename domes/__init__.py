@@ -12,6 +12,8 @@ The package follows the design pipeline (docs/architecture.md):
 - at the edge: :mod:`domes.io` (files, package data), :mod:`domes.store` (SQL),
   :mod:`domes.sketch` (drawings, pages), :mod:`domes.cli` (the command line)
 
+The names below are loaded on first use (PEP 562), so ``import domes`` (and the command line) stays quick.
+
 Example
 -------
 >>> import domes
@@ -21,11 +23,22 @@ Example
 16
 """
 
-from domes.errors import DomesError
-from domes.model import Chain, chain_properties
-from domes.typesynth import NumberSynthesis, chains, link_assortments, number_synthesis
+from __future__ import annotations
+
+import importlib
 
 __version__ = "0.1.0"
+
+#: Each name of the package's surface and the module it comes from, imported on first use.
+_LAZY = {
+    "Chain": "domes.model",
+    "DomesError": "domes.errors",
+    "NumberSynthesis": "domes.typesynth",
+    "chain_properties": "domes.model",
+    "chains": "domes.typesynth",
+    "link_assortments": "domes.typesynth",
+    "number_synthesis": "domes.typesynth",
+}
 
 __all__ = [
     "Chain",
@@ -36,3 +49,17 @@ __all__ = [
     "link_assortments",
     "number_synthesis",
 ]
+
+
+def __getattr__(name: str):
+    """A name of :data:`__all__`, imported from its module on first use (and kept here)."""
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -40,8 +40,13 @@ SUBCOMMAND_MODULES = (
 )
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every stage's subcommand registered."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser with every stage's subcommand registered.
+
+    Given ``command`` (the subcommand a command line names, :func:`chosen`), only the module that owns it
+    registers its options and loads what they need; every other subcommand is listed by its name and help line
+    (its module's ``COMMANDS``), which is all ``domes --help`` and argparse's errors show of it.
+    """
     parser = argparse.ArgumentParser(
         prog="domes",
         description="DOMES-py: creative mechanism design by type synthesis.",
@@ -50,8 +55,20 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for name in SUBCOMMAND_MODULES:
-        importlib.import_module(name).register(sub)
+        module = importlib.import_module(name)
+        commands = getattr(module, "COMMANDS", None)
+        if command is None or commands is None or command in commands:
+            module.register(sub)
+        else:
+            for word, text in commands.items():
+                sub.add_parser(word, help=text)
     return parser
+
+
+def chosen(argv: list[str]) -> str:
+    """The subcommand a command line names: its first word that is not an option ("" for none, as in
+    ``domes --help``; the top-level options take no value)."""
+    return next((word for word in argv if not word.startswith("-")), "")
 
 
 def _notices() -> None:
@@ -68,7 +85,8 @@ def _notices() -> None:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     _notices()
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = build_parser(chosen(argv))
     args = parser.parse_args(argv)
     try:
         with limited_threads():  # BLAS and OpenMP: one thread unless DOMES_THREADS says more

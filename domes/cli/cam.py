@@ -15,22 +15,21 @@ from __future__ import annotations
 import argparse
 import math
 
-import numpy as np
-
 from domes.cli.common import write_document
-from domes.design.cam import Follower, design_cam
-from domes.design.combination import cam_for_path
 from domes.errors import InputError
 from domes.io.files import read_text
-from domes.io.mechanisms import load_mechanism
-from domes.model.laws import Motion, from_table, law_name, read_table
+
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "cam": "a disc cam's profile from a follower motion law (dwell, rise, return), checked for pressure angle "
+    "and undercut",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "cam",
-        help="a disc cam's profile from a follower motion law (dwell, rise, return), checked for pressure angle "
-        "and undercut",
+        help=COMMANDS["cam"],
         description="Design a disc cam (issue 26; seed 000 §2.10 motion laws): the follower's displacement over "
         "one turn is given as segments (--segment LAW DEGREES [RISE]; laws: dwell, constant velocity, simple "
         "harmonic (cosine acceleration), cycloidal (sine acceleration), 3-4-5 polynomial) or a table (--table "
@@ -71,6 +70,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _motion(args, oscillating: bool):
+    import numpy as np
+
+    from domes.model.laws import Motion, from_table, law_name, read_table
+
     scale = math.radians if oscillating else float
     if args.table and args.segment:
         raise InputError("give the motion as --segment ... or as --table FILE, not both")
@@ -98,6 +101,12 @@ def _motion(args, oscillating: bool):
 
 
 def _combination(args) -> int:
+    import numpy as np
+
+    from domes.design.combination import cam_for_path
+    from domes.io.mechanisms import load_mechanism
+    from domes.model.laws import read_table
+
     if args.segment or args.table or args.base_radius is not None:
         raise InputError("with --mechanism the motion and the base radius come from the path: leave out --segment, "
                          "--table and --base-radius")
@@ -131,6 +140,8 @@ def _combination(args) -> int:
 
 
 def run(args: argparse.Namespace) -> int:
+    from domes.design.cam import Follower, design_cam
+
     if args.face == "roller" and args.roller is None:
         raise InputError("a roller follower needs --roller RADIUS (or choose --face knife or flat)")
     if args.mechanism:

@@ -20,15 +20,19 @@ import json
 import sys
 
 from domes.cli.common import finite_json
-from domes.design.catalogue import propose
-from domes.io.catalogue import load_catalogue, load_heuristics
-from domes.knowledge.catalogue import FUNCTIONS, MOTIONS
+
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "catalogue": "standard mechanisms by the motion they convert (rotation -> straight line, ...), properties measured",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.knowledge.catalogue import FUNCTIONS, MOTIONS
+
     p = sub.add_parser(
         "catalogue",
-        help="standard mechanisms by the motion they convert (rotation -> straight line, ...), properties measured",
+        help=COMMANDS["catalogue"],
         description="The catalogue of standard mechanisms (seed 002 ch. 1 system search, §5-1 functional "
         "combination): slider-crank, Scotch yoke, tangent, quick return, toggle press, straight-line linkages, "
         f"Geneva wheels, ratchet, cams, gears. Motions: {', '.join(MOTIONS)}. Each property is measured on the "
@@ -49,6 +53,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from domes.design.catalogue import propose
+    from domes.io.catalogue import load_catalogue, load_heuristics
+
     found = propose(load_catalogue(args.knowledge), args.motion, args.require, args.function,
                     load_heuristics(args.knowledge))
     if args.format == "json":

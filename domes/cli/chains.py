@@ -7,35 +7,35 @@ import json
 import os
 import sys
 import textwrap
+from typing import TYPE_CHECKING
 
 from domes.cli.common import available_memory, confirm, parallel_options, progress_printer
 from domes.errors import InputError
 from domes.execution import SCHEDULER_VARIABLE, InProcess, executor
 from domes.io.jobs import JobFolder
-from domes.model.active import DOF_TYPES, ActiveSets, active_sets
-from domes.model.chain import Chain
-from domes.model.mobility import chain_joints
-from domes.typesynth.atlas import (
-    ISOMORPHISM_METHODS,
-    MAX_CLAMPING_JOINTS,
-    SMALL_CLAMPING_LINKS,
-    ChainGenerator,
-    check_links,
-    clamping_joints,
-    forecast,
-)
-from domes.typesynth.spatial import spatial_loops
+
+if TYPE_CHECKING:  # the chain model and the atlas are loaded by the commands that use them
+    from domes.model.active import ActiveSets
+    from domes.model.chain import Chain
 
 #: Atlases from this many links on are very large: ask before building them.
 LARGE_ATLAS_LINKS = 14
 #: Pages of more drawn chains than this are made only when the user agrees (--yes).
 LARGE_PAGE = 1000
 
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "chains": "every non-isomorphic, non-degenerate chain with N links and DOF F",
+    "chain": "structural properties of given chains (graph6), degenerate ones included",
+}
+
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.typesynth.atlas import ISOMORPHISM_METHODS
+
     p = sub.add_parser(
         "chains",
-        help="every non-isomorphic, non-degenerate chain with N links and DOF F",
+        help=COMMANDS["chains"],
         description="The unlabelled graph generator: every non-isomorphic kinematic chain of planar motion "
         "with simple revolute joints, the given links and DOF, and no rigid or over-constrained proper "
         "sub-chain (--spatial: single-loop spatial chains instead). DOF 0 gives the basic chains of Table 3-4 (with K). A chain whose graph is not planar "
@@ -81,7 +81,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     q = sub.add_parser(
         "chain",
-        help="structural properties of given chains (graph6), degenerate ones included",
+        help=COMMANDS["chain"],
         description="Properties of one or more chains given as graph6 strings: loops, DOF, link "
         "assortment, contracted graph, DOF type, automorphisms and link orbits, for a "
         "degenerate chain the rigid sub-chain that makes it so, and for a chain of DOF F >= 1 its sets of F "
@@ -104,6 +104,8 @@ def _duration(seconds: float) -> str:
 
 def _confirm_large(links: int, dof: int, include_fractionated: bool, yes: bool, workers: int = 1) -> None:
     """Say how large, long and memory-hungry the atlas will likely be, before it starts; go on if the user agrees."""
+    from domes.typesynth.atlas import forecast
+
     f = forecast(links, dof, include_fractionated)
     where = {0: "in one process (less on the cluster)", 1: "in this process"}.get(workers, f"on {workers} workers")
     text = (f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {f.count:.1e} chains ({f.basis}), "
@@ -143,6 +145,10 @@ def _active_text(found: ActiveSets) -> str:
 
 
 def run_chains(args: argparse.Namespace) -> int:
+    from domes.model.chain import Chain
+    from domes.model.mobility import chain_joints
+    from domes.typesynth.atlas import ChainGenerator, check_links
+
     if args.spatial is not None:
         return _run_spatial(args)
     _check_active(args)
@@ -189,6 +195,8 @@ def run_chains(args: argparse.Namespace) -> int:
 
 def _run_spatial(args: argparse.Namespace) -> int:
     """``domes chains --spatial``: the single-loop spatial chains of ``domes.typesynth.spatial``."""
+    from domes.typesynth.spatial import spatial_loops
+
     clash = ("--loops" if args.loops is not None else "--clamping" if args.clamping else "--active" if args.active
              else "--include-fractionated" if args.include_fractionated else "--out" if args.out is not None
              else f"--format {args.format}" if args.format in ("graph6", "html")
@@ -221,6 +229,9 @@ def _run_spatial(args: argparse.Namespace) -> int:
 
 def _run_clamping(args: argparse.Namespace, links: int) -> int:
     """``domes chains --clamping``: the small clamping atlases, built here (no --out, no workers needed)."""
+    from domes.model.chain import Chain
+    from domes.typesynth.atlas import MAX_CLAMPING_JOINTS, SMALL_CLAMPING_LINKS, ChainGenerator, clamping_joints
+
     if args.out is not None:
         raise InputError(f"--out is for the large atlases of mobile chains; a clamping atlas is small (at most "
                          f"{MAX_CLAMPING_JOINTS} joints beyond {SMALL_CLAMPING_LINKS} links): leave --out out and use "
@@ -239,6 +250,8 @@ def _run_clamping(args: argparse.Namespace, links: int) -> int:
 
 def _write_atlas(args: argparse.Namespace, atlas: list[Chain], links: int, joints: int, loops: int) -> int:
     """Write the atlas to standard output in ``args.format``."""
+    from domes.model.active import active_sets
+
     out = sys.stdout
     if args.format == "html":
         from domes.sketch.atlas import chain_atlas_html
@@ -300,6 +313,8 @@ def _write_atlas(args: argparse.Namespace, atlas: list[Chain], links: int, joint
 
 
 def run_chain(args: argparse.Namespace) -> int:
+    from domes.model.chain import Chain
+
     texts = [line for g in args.graph6 for line in (sys.stdin.read().split() if g == "-" else [g])]
     chains = [Chain.from_graph6(t) for t in texts]
     if args.format == "json":
@@ -329,6 +344,8 @@ def run_chain(args: argparse.Namespace) -> int:
 
 def _active_or_why(chain: Chain) -> tuple[ActiveSets | None, str]:
     """The chain's active sets, or None and why there are none."""
+    from domes.model.active import active_sets
+
     if chain.dof < 1:
         return None, f"DOF {chain.dof}"
     try:
@@ -339,6 +356,8 @@ def _active_or_why(chain: Chain) -> tuple[ActiveSets | None, str]:
 
 def _print_active(found: ActiveSets) -> None:
     """The counts, then the classes of joint sets by DOF type (each with how many sets it holds)."""
+    from domes.model.active import DOF_TYPES
+
     c, labelled = found.counts(), found.counts(labelled=True)
     print(f"  active pairs ({found.dof} joints, classes up to symmetry): {c['active']} of {c['sets']} can be active "
           f"together (full {c['full']}, partial {c['partial']}, fractionated {c['fractionated']}); "

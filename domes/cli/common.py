@@ -1,5 +1,8 @@
 """What the subcommands share: progress on stderr, the case-base option, writing an output.
 
+The subcommands' modules import what their commands compute with inside the commands, not at the top: building
+the parser (``domes --help``) loads no numerical library.
+
 >>> import argparse
 >>> p = argparse.ArgumentParser(parents=[db_option()])
 >>> p.parse_args(["--db", "x.db"]).db
@@ -18,8 +21,8 @@ from domes.errors import InputError
 from domes.execution import SCHEDULER_VARIABLE
 from domes.execution.watch import WORKER_TIMEOUT, WORKER_TIMEOUT_VARIABLE
 from domes.io.files import write_atomic
+from domes.io.resources import DB_ENV
 from domes.results import Progress, Ticker
-from domes.store.casebase import DB_ENV
 
 #: Without a terminal (a log, a pipe), progress is one line per this many seconds at most: a long run says it is
 #: alive, a short one says nothing.

@@ -14,33 +14,27 @@ import json
 import math
 import sys
 
-import numpy as np
-
 from domes.cli.common import confirm, parallel_options, progress_printer, write_output
 from domes.errors import InputError
 from domes.execution import InProcess, executor
-from domes.io.atlas import atlas_path, default_atlas, load_atlas, save_atlas
-from domes.io.curves import read_path, read_points
 from domes.io.files import check_target, read_json
-from domes.io.mechanisms import load_mechanism, save_mechanism
-from domes.motion.coupler.atlas import SIZES, Atlas, OpenAtlas, build, build_windows
-from domes.motion.coupler.curves import trace
-from domes.motion.coupler.designspace import classify
-from domes.motion.coupler.fit import check_wanted
-from domes.motion.coupler.fourbar import four_bar
-from domes.motion.coupler.fourier import describe
-from domes.motion.coupler.fuzzy import parameters
-from domes.motion.coupler.match import CANDIDATES, match
-from domes.motion.coupler.special import crossings, cusps
-from domes.sketch.curves import Card, curves_html, joint_names, moving_svg
 
 FORMATS = ("text", "json", "csv", "html")
 
 
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "curves": "coupler curves: classify a four-bar, trace and describe curves, build the atlas, match a wanted path",
+}
+
+
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.motion.coupler.atlas import SIZES
+    from domes.motion.coupler.match import CANDIDATES
+
     p = sub.add_parser(
         "curves",
-        help="coupler curves: classify a four-bar, trace and describe curves, build the atlas, match a wanted path",
+        help=COMMANDS["curves"],
         description="Backward reasoning from a wanted coupler curve (seed 002 chapter 6): the four-bar design "
         "space (Table 6-1), every circuit of a coupler curve traced by the kinematics backend with its cusps and "
         "crossings, Fourier and fuzzy shape descriptors, the atlas of four-bar curves, and the four-bars that "
@@ -116,6 +110,8 @@ def _progress(q):
 
 
 def run_classify(args) -> int:
+    from domes.motion.coupler.designspace import classify
+
     p = classify(args.a, args.b, args.c, args.d)
     if args.format == "json":
         json.dump({"a": p.a, "b": p.b, "c": p.c, "d": p.d, "scale": p.scale, "region": p.region,
@@ -132,6 +128,9 @@ def run_classify(args) -> int:
 
 
 def _mechanism(args):
+    from domes.io.mechanisms import load_mechanism
+    from domes.motion.coupler.fourbar import four_bar
+
     if args.four_bar and args.file:
         raise InputError("give a mechanism file or --four-bar, not both")
     if args.four_bar:
@@ -142,6 +141,12 @@ def _mechanism(args):
 
 
 def run_trace(args) -> int:
+    import numpy as np
+
+    from domes.motion.coupler.curves import trace
+    from domes.motion.coupler.special import crossings, cusps
+    from domes.sketch.curves import Card, curves_html, joint_names, moving_svg
+
     if args.output:
         check_target(args.output)
     mech = _mechanism(args)
@@ -190,6 +195,11 @@ def _card_props(c, cu, cr):
 
 
 def run_describe(args) -> int:
+    from domes.io.curves import read_points
+    from domes.motion.coupler.curves import trace
+    from domes.motion.coupler.fourier import describe
+    from domes.motion.coupler.fuzzy import parameters
+
     if args.output:
         check_target(args.output)
     if args.file and not args.four_bar and not _is_mechanism_file(args.file):
@@ -235,6 +245,9 @@ def _is_mechanism_file(path) -> bool:
 
 
 def run_atlas(args) -> int:
+    from domes.io.atlas import atlas_path, load_atlas, save_atlas
+    from domes.motion.coupler.atlas import SIZES, build, build_windows
+
     progress = progress_printer(args.progress)
     kind = "open" if args.open else "closed"
     where = args.file or atlas_path(args.size, kind)
@@ -263,6 +276,15 @@ def run_atlas(args) -> int:
 
 
 def run_match(args) -> int:
+    from domes.io.atlas import default_atlas, load_atlas
+    from domes.io.curves import read_path
+    from domes.io.mechanisms import save_mechanism
+    from domes.motion.coupler.atlas import SIZES, Atlas, OpenAtlas
+    from domes.motion.coupler.curves import trace
+    from domes.motion.coupler.fit import check_wanted
+    from domes.motion.coupler.match import match
+    from domes.sketch.curves import Card, curves_html, joint_names, moving_svg
+
     for path in (args.output, args.save):
         if path:
             check_target(path)
@@ -334,6 +356,8 @@ def _merged_text(g, why: str) -> str:
 
 
 def _nearest(points, wanted):
+    import numpy as np
+
     d = np.min(np.hypot(*(points[:, None, :] - wanted[None, :, :]).transpose(2, 0, 1)), axis=0)
     return float(np.max(d))
 

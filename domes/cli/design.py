@@ -9,26 +9,32 @@ import signal
 import sys
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from domes.cli.common import DB_HELP, parallel_options, progress_printer
-from domes.design.feasibility import METHODS
 from domes.errors import DomesError, InputError
 from domes.execution import check_workers
-from domes.expert.dialogue import Dialogue
-from domes.expert.feasible import DesignKnobs
-from domes.expert.replay import record_case, replay, scratch_casebase, shipped_cases
-from domes.expert.world import frame_text
 from domes.io.files import check_target
-from domes.io.transcripts import load_session, read_answers, save_session, write_transcript
-from domes.store.casebase import KnowledgeBase
+
+if TYPE_CHECKING:  # loaded by the commands that use them
+    from domes.expert.dialogue import Dialogue
 
 STATE = ".domes-design-session.json"
 
 
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "design": "the design expert: a question-answer session that designs, screens and remembers",
+    "cases": "solved problems: list, show, replay, record, remove",
+}
+
+
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.design.feasibility import METHODS
+
     d = sub.add_parser(
         "design",
-        help="the design expert: a question-answer session that designs, screens and remembers",
+        help=COMMANDS["design"],
         description="The DOMES design dialogue (Fig. 7-8): recognise the problem as the same as, similar to "
         "or different from a solved one, ask what is needed, derive links and joints, generate, label and "
         "screen the candidates, and keep the solved problem in the case base.",
@@ -54,7 +60,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parallel_options(f, "dimension the candidates")
     d.set_defaults(func=run_design)
 
-    c = sub.add_parser("cases", help="solved problems: list, show, replay, record, remove")
+    c = sub.add_parser("cases", help=COMMANDS["cases"])
     c.add_argument("--db", metavar="URL", help=DB_HELP)
     cs = c.add_subparsers(dest="action", metavar="ACTION")
     cs.required = True
@@ -82,6 +88,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_design(args: argparse.Namespace) -> int:
+    from domes.expert.dialogue import Dialogue
+    from domes.expert.feasible import DesignKnobs
+    from domes.expert.replay import scratch_casebase
+    from domes.io.transcripts import load_session, read_answers
+
     for target in (args.record, args.state):  # where the session will be written: refused now, not after it
         if target:
             check_target(target)
@@ -110,6 +121,8 @@ def run_design(args: argparse.Namespace) -> int:
 
 
 def _design(args: argparse.Namespace, dialogue: Dialogue) -> int:
+    from domes.io.transcripts import save_session, write_transcript
+
     try:
         outcome = dialogue.run()
     except (KeyboardInterrupt, EOFError) as stop:
@@ -130,6 +143,8 @@ def _design(args: argparse.Namespace, dialogue: Dialogue) -> int:
 
 
 def run_list(args: argparse.Namespace) -> int:
+    from domes.store.casebase import KnowledgeBase
+
     with KnowledgeBase(args.db) as kb:
         problems = kb.problems()
     print(f"  {'id':<34s} {'class':<30s} DOF  L  links joints sliders gears  kept")
@@ -140,6 +155,9 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_show(args: argparse.Namespace) -> int:
+    from domes.expert.world import frame_text
+    from domes.store.casebase import KnowledgeBase
+
     with KnowledgeBase(args.db) as kb:
         frame = kb.get_problem(args.id)
     if args.format == "json":
@@ -150,6 +168,8 @@ def run_show(args: argparse.Namespace) -> int:
 
 
 def run_replay(args: argparse.Namespace) -> int:
+    from domes.expert.replay import replay, shipped_cases
+
     names = list(args.cases)
     if args.all:
         names += shipped_cases()
@@ -176,6 +196,10 @@ def run_replay(args: argparse.Namespace) -> int:
 
 
 def run_record(args: argparse.Namespace) -> int:
+    from domes.expert.feasible import DesignKnobs
+    from domes.expert.replay import record_case
+    from domes.io.transcripts import read_answers
+
     if not 1 <= args.seeds <= 4096:
         raise InputError(f"--seeds must be a whole number from 1 to 4096, got {args.seeds}")
     _, target = record_case(read_answers(args.answers), args.name, args.db, say=print,
@@ -185,6 +209,8 @@ def run_record(args: argparse.Namespace) -> int:
 
 
 def run_remove(args: argparse.Namespace) -> int:
+    from domes.store.casebase import KnowledgeBase
+
     with KnowledgeBase(args.db, write=True, actor="domes cases remove") as kb:
         kb.remove_problem(args.id, why=args.why)
     print(f"removed {args.id}")

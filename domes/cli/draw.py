@@ -5,23 +5,30 @@ from __future__ import annotations
 import argparse
 import math
 import os
+from typing import TYPE_CHECKING
 
 from domes.cli.common import write_output
 from domes.cli.kinematics import parse_sweep
 from domes.errors import InputError
-from domes.io.mechanisms import is_spatial, load_mechanism, load_spatial
-from domes.model import JOINT_TYPES, LabelledChain
-from domes.model.chain import Chain
-from domes.motion import PRESETS
-from domes.sketch.atlas import Card, atlas_html, chain_card, mechanism_card
-from domes.sketch.dimensioned import dimensioned_svg
-from domes.sketch.layout import skeleton_layout
+
+if TYPE_CHECKING:  # loaded by the commands that use them
+    from domes.model import LabelledChain
+    from domes.model.chain import Chain
+
+
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "draw": "draw a chain (graph6) as a mechanism skeleton or sketch, or a mechanism file (JSON) to scale",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.model import JOINT_TYPES
+    from domes.motion import PRESETS
+
     p = sub.add_parser(
         "draw",
-        help="draw a chain (graph6) as a mechanism skeleton or sketch, or a mechanism file (JSON) to scale",
+        help=COMMANDS["draw"],
         description="Draw one chain, given as a graph6 string (as printed by `domes chains --format graph6`), "
         "as a mechanism skeleton: bars, plates, joints. With --ground, --input, --joint or --role the "
         "chain is labelled and drawn as a mechanism sketch with the symbols of Table 3-5. "
@@ -63,6 +70,8 @@ def _parse_joint(text: str) -> tuple[tuple[int, int], str]:
 
 def labelled_from_args(chain: Chain, args: argparse.Namespace) -> LabelledChain | None:
     """The labelled chain the options describe, or ``None`` when none is given."""
+    from domes.model import LabelledChain
+
     if not (args.ground or args.input or args.role or args.joint):
         return None
     roles: dict[int, set[str]] = {}
@@ -91,6 +100,10 @@ def _size(given: float | None, default: float) -> float:
 
 
 def run_draw(args: argparse.Namespace) -> int:
+    from domes.model.chain import Chain
+    from domes.sketch.atlas import atlas_html, chain_card, mechanism_card
+    from domes.sketch.layout import skeleton_layout
+
     if args.graph6.lower().endswith(".json"):
         return draw_mechanism_file(args)
     args.size = _size(args.size, 220.0)
@@ -112,6 +125,10 @@ def run_draw(args: argparse.Namespace) -> int:
 
 def draw_mechanism_file(args: argparse.Namespace) -> int:
     """``domes draw FILE.json``: the mechanism to scale at ``--at``, with its coupler curves."""
+    from domes.io.mechanisms import is_spatial, load_mechanism
+    from domes.sketch.atlas import Card, atlas_html
+    from domes.sketch.dimensioned import dimensioned_svg
+
     given = [name for name, value in (("--ground", args.ground), ("--input", args.input), ("--role", args.role), ("--joint", args.joint), ("--graph", args.graph)) if value]
     if given:
         raise InputError(f"{', '.join(given)}: only for a chain (graph6); a mechanism file has its own ground, inputs and joints")
@@ -133,6 +150,7 @@ def draw_mechanism_file(args: argparse.Namespace) -> int:
 
 def _draw_spatial(args: argparse.Namespace, size: float) -> int:
     """A spatial mechanism file: an axonometric SVG at ``--at``, or (html) a page that turns and plays a sweep."""
+    from domes.io.mechanisms import load_spatial
     from domes.motion.spatial.loops import Loops
     from domes.motion.spatial.sweep import spatial_sweep
     from domes.sketch.spatial import spatial_html, spatial_svg

@@ -18,24 +18,28 @@ import argparse
 import math
 import sys
 
-import numpy as np
-
 from domes.cli.common import progress_printer, write_document
 from domes.cli.kinematics import parse_sweep
-from domes.design.dynamics import PRESSURE_ANGLE, inverse_dynamics
-from domes.design.scriber import EQUATIONS, KINETIC, MAX_POINTS, follow
 from domes.errors import InputError
-from domes.io.mechanisms import is_scriber_task, load_mechanism, load_scriber_task
-from domes.motion.planar.query import PRESETS
 
 #: The most steps of one sweep.
 MAX_STEPS = 1_000_000
 
 
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "dynamics": "driving forces, joint reactions and the power balance of a mechanism with masses (or the scriber)",
+}
+
+
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.design.dynamics import PRESSURE_ANGLE
+    from domes.design.scriber import EQUATIONS, KINETIC, MAX_POINTS
+    from domes.motion.planar.query import PRESETS
+
     p = sub.add_parser(
         "dynamics",
-        help="driving forces, joint reactions and the power balance of a mechanism with masses (or the scriber)",
+        help=COMMANDS["dynamics"],
         description="Inverse dynamics. A mechanism file (with masses, loads, springs, gravity: docs/dynamics.md) "
         "is swept over its input at the input's speed: the driving force or torque of every input and the "
         "reaction of every joint at each step, with the power balance (input power + load power - dE/dt) as "
@@ -71,6 +75,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from domes.io.mechanisms import is_scriber_task
+
     for name in ("speed", "acceleration"):
         value = getattr(args, name)
         if value is not None and not math.isfinite(value):
@@ -99,6 +105,11 @@ def _rows(doc: dict):
 
 
 def _mechanism(args) -> dict:
+    import numpy as np
+
+    from domes.design.dynamics import inverse_dynamics
+    from domes.io.mechanisms import load_mechanism
+
     for name in ("points",):
         if getattr(args, name) is not None:
             raise InputError(f"--{name} is for a scriber task file; {args.file} is a mechanism")
@@ -170,6 +181,11 @@ def _mechanism(args) -> dict:
 
 
 def _scriber(args) -> dict:
+    import numpy as np
+
+    from domes.design.scriber import follow
+    from domes.io.mechanisms import load_scriber_task
+
     for name in ("sweep", "joint", "acceleration"):
         if getattr(args, name) is not None:
             raise InputError(f"--{name if name != 'joint' else 'input'} is for a mechanism file; {args.file} is a "

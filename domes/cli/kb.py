@@ -6,33 +6,38 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from domes.cli.common import db_option, write_output
 from domes.errors import DomesError, InputError
-from domes.io.criteria import FORMATS, check_unique, dumps_json, dumps_toml, read_file
-from domes.io.graphs import parse_labelled_graphs, read_labelled_graphs
-from domes.io.resources import KNOWLEDGE_ENV
-from domes.knowledge.frames import CriterionFrame
-from domes.knowledge.relevance import Problem, relevance_vector
-from domes.knowledge.screening import screen
-from domes.language.explain import explain
-from domes.language.parse import parse_criterion, parse_relevance
-from domes.language.render import render_criterion, render_relevance
-from domes.language.tree import category, to_json
-from domes.store.casebase import DB_ENV, KnowledgeBase, build
+from domes.io.resources import DB_ENV, KNOWLEDGE_ENV
+
+if TYPE_CHECKING:  # loaded by the commands that use them
+    from domes.knowledge.relevance import Problem
+    from domes.store.casebase import KnowledgeBase
 
 WHY_HELP = "why the change is made (kept in the history, `domes kb history`)"
 
 
 def _open(args: argparse.Namespace, **kwargs) -> KnowledgeBase:
     """The case base of a command that changes it; its history names the command."""
+    from domes.store.casebase import KnowledgeBase
+
     return KnowledgeBase(args.db, actor=f"domes kb {args.kb_command}", **kwargs)
 
 
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "kb": "the knowledge base of screening criteria (criterion frames, Table 7-2)",
+}
+
+
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.io.criteria import FORMATS
+
     p = sub.add_parser(
         "kb",
-        help="the knowledge base of screening criteria (criterion frames, Table 7-2)",
+        help=COMMANDS["kb"],
         description="Parse criteria written in the criterion language, and keep the knowledge base of "
         f"criterion frames: your case base (made from the embedded casebase.db on the first edit), or --db URL / {DB_ENV}. "
         "Every edit is one transaction; a refused edit changes nothing.",
@@ -123,6 +128,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run_parse(args: argparse.Namespace) -> int:
+    from domes.language.parse import parse_criterion, parse_relevance
+    from domes.language.render import render_criterion, render_relevance
+    from domes.language.tree import category, to_json
+
     if args.relevance:
         tree = parse_relevance(args.text)
         out = {"relevance": to_json(tree), "reading": render_relevance(tree)}
@@ -135,6 +144,8 @@ def run_parse(args: argparse.Namespace) -> int:
 
 
 def run_list(args: argparse.Namespace) -> int:
+    from domes.store.casebase import KnowledgeBase
+
     with KnowledgeBase(args.db) as kb:
         frames = kb.frames()
     if args.format == "json":
@@ -151,6 +162,9 @@ def run_list(args: argparse.Namespace) -> int:
 
 
 def run_show(args: argparse.Namespace) -> int:
+    from domes.language.tree import to_json
+    from domes.store.casebase import KnowledgeBase
+
     with KnowledgeBase(args.db) as kb:
         frame = kb.get(args.id)
     data = frame.to_dict()
@@ -182,6 +196,9 @@ def _changes(args: argparse.Namespace) -> dict:
 
 
 def run_add(args: argparse.Namespace) -> int:
+    from domes.knowledge.frames import CriterionFrame
+    from domes.language.render import render_criterion
+
     changes = _changes(args)
     frame = CriterionFrame.create(args.id, enabled=not args.disabled, **changes)
     with _open(args, write=True) as kb:
@@ -191,6 +208,8 @@ def run_add(args: argparse.Namespace) -> int:
 
 
 def run_edit(args: argparse.Namespace) -> int:
+    from domes.language.render import render_criterion
+
     changes = _changes(args)
     if not changes:
         raise InputError("nothing to change: give --text, --explanation, --keywords, --relevance, --level, --source or --date")
@@ -216,6 +235,9 @@ def run_remove(args: argparse.Namespace) -> int:
 
 
 def run_export(args: argparse.Namespace) -> int:
+    from domes.io.criteria import dumps_json, dumps_toml
+    from domes.store.casebase import KnowledgeBase
+
     fmt = args.format or ("json" if args.output and args.output.endswith(".json") else "toml")
     with KnowledgeBase(args.db) as kb:
         frames = kb.frames()
@@ -227,6 +249,8 @@ def run_export(args: argparse.Namespace) -> int:
 
 
 def run_import(args: argparse.Namespace) -> int:
+    from domes.io.criteria import check_unique, read_file
+
     frames = read_file(args.file)
     check_unique(frames, args.file)  # validated whole before the database is even opened
     with _open(args, create=True) as kb:
@@ -239,6 +263,9 @@ def run_import(args: argparse.Namespace) -> int:
 
 
 def run_check(args: argparse.Namespace) -> int:
+    from domes.io.criteria import check_unique, read_file
+    from domes.store.casebase import KnowledgeBase
+
     if args.files:
         frames = []
         for name in args.files:
@@ -256,6 +283,8 @@ def run_check(args: argparse.Namespace) -> int:
 
 
 def run_history(args: argparse.Namespace) -> int:
+    from domes.store.casebase import KnowledgeBase
+
     with KnowledgeBase(args.db) as kb:
         entries = kb.history()
     if args.format == "json":
@@ -285,6 +314,8 @@ def run_undo(args: argparse.Namespace) -> int:
 
 
 def run_build(args: argparse.Namespace) -> int:
+    from domes.store.casebase import KnowledgeBase, build
+
     frames = build(args.source, args.db, force=args.force, say=print)
     with KnowledgeBase(args.db) as kb:
         cases = len(kb.problems())
@@ -293,6 +324,8 @@ def run_build(args: argparse.Namespace) -> int:
 
 
 def _problem(text: str) -> Problem:
+    from domes.knowledge.relevance import Problem
+
     try:
         data = json.loads(Path(text).read_text() if text.endswith(".json") else text)
     except (OSError, json.JSONDecodeError) as exc:
@@ -303,6 +336,11 @@ def _problem(text: str) -> Problem:
 
 
 def run_screen(args: argparse.Namespace) -> int:
+    from domes.io.graphs import parse_labelled_graphs, read_labelled_graphs
+    from domes.knowledge.screening import screen
+    from domes.language.explain import explain
+    from domes.store.casebase import KnowledgeBase
+
     if args.graphs == "-":
         graphs = parse_labelled_graphs(sys.stdin.read(), "stdin")
     else:
@@ -333,6 +371,9 @@ def run_screen(args: argparse.Namespace) -> int:
 
 
 def run_relevance(args: argparse.Namespace) -> int:
+    from domes.knowledge.relevance import relevance_vector
+    from domes.store.casebase import KnowledgeBase
+
     problem = _problem(args.problem)
     with KnowledgeBase(args.db) as kb:
         vector = relevance_vector(kb.frames(), problem)

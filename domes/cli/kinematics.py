@@ -26,16 +26,19 @@ import sys
 
 from domes.cli.common import confirm, finite_json, progress_printer
 from domes.errors import InputError
-from domes.io.mechanisms import is_spatial, load_mechanism
-from domes.motion.planar.kernel import vectorizable
-from domes.motion.planar.query import PRESETS, Kinematics, accuracy
-from domes.motion.planar.sweep import grid_size, run_sweep
+
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "kinematics": "position, velocity and acceleration of a dimensioned mechanism (JSON file), with dead points",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
+    from domes.motion.planar.query import PRESETS
+
     p = sub.add_parser(
         "kinematics",
-        help="position, velocity and acceleration of a dimensioned mechanism (JSON file), with dead points",
+        help=COMMANDS["kinematics"],
         description="The kinematics backend: solves only the Assur groups the requested outputs depend on, "
         "sweeps the input with assembly-mode continuity, and reports every step's loop-closure residual and "
         "condition number and every dead (limit) or singular point. Angles in degrees unless --angles rad.",
@@ -91,6 +94,11 @@ def parse_sweep(text: str, scale) -> tuple[float, float, float | None]:
 
 
 def run(args: argparse.Namespace) -> int:
+    from domes.io.mechanisms import is_spatial, load_mechanism
+    from domes.motion.planar.kernel import vectorizable
+    from domes.motion.planar.query import Kinematics, accuracy
+    from domes.motion.planar.sweep import grid_size, run_sweep
+
     if is_spatial(args.file):
         from domes.cli.spatial import run_spatial
 

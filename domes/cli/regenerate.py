@@ -5,20 +5,25 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from typing import TYPE_CHECKING
 
 from domes.cli.common import progress_printer
 from domes.errors import InputError
-from domes.io.scenes import load_scene
-from domes.io.topology import read_topology, to_mtm, type_matrix
-from domes.model.combination_modes import combination_phrase
-from domes.typesynth.generalize import generalize
-from domes.typesynth.regenerate import Regeneration, regenerate
+
+if TYPE_CHECKING:  # the stages are loaded by the commands that use them
+    from domes.typesynth.regenerate import Regeneration
+
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "regenerate": "regenerate chains into mechanisms under a design scene's rules",
+    "generalize": "the generalized chain of a mechanism file (Table 3-5)",
+}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "regenerate",
-        help="regenerate chains into mechanisms under a design scene's rules",
+        help=COMMANDS["regenerate"],
         description="Yan's chain regeneration: assign the scene's roles stage by stage on every "
         "chain, remove duplicates exactly, screen, particularize, and flag existing designs. "
         "SCENE is a scene name (knowledge/scenes/NAME.toml) or a scene file.",
@@ -31,7 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     g = sub.add_parser(
         "generalize",
-        help="the generalized chain of a mechanism file (Table 3-5)",
+        help=COMMANDS["generalize"],
         description="Generalize a mechanism (TOML file, see docs/regeneration.md) into its chain of "
         "revolute joints with the marks of Table 3-5, and find the chain in the atlas.",
     )
@@ -52,6 +57,8 @@ def _roles_text(candidate) -> str:
 
 def _mode_text(candidate, dof: int) -> str:
     """The candidate's combination mode(s) (seed 002 §3-3-III.2), when it has one ground and one input."""
+    from domes.model.combination_modes import combination_phrase
+
     try:
         phrase = combination_phrase(candidate.labelled, dof)
     except InputError:  # no driver (or no single one): no combination mode to read
@@ -94,6 +101,9 @@ def print_regeneration(result: Regeneration, new_only: bool, out=None) -> None:
 
 
 def run_regenerate(args: argparse.Namespace) -> int:
+    from domes.io.scenes import load_scene
+    from domes.typesynth.regenerate import regenerate
+
     result = regenerate(load_scene(args.scene), progress_printer())
     if args.format == "json":
         json.dump(result.to_dict(new_only=args.new_only), sys.stdout, indent=1)
@@ -108,6 +118,9 @@ def run_regenerate(args: argparse.Namespace) -> int:
 
 
 def run_generalize(args: argparse.Namespace) -> int:
+    from domes.io.topology import read_topology, to_mtm, type_matrix
+    from domes.typesynth.generalize import generalize
+
     mechanism = read_topology(args.file)
     if args.format == "mtm":
         print(to_mtm(mechanism))

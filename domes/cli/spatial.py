@@ -22,12 +22,13 @@ import sys
 from domes.cli.common import finite_json, progress_printer
 from domes.cli.kinematics import parse_sweep
 from domes.errors import InputError
-from domes.io.mechanisms import load_spatial
-from domes.motion.spatial.sweep import spatial_sweep
 
 
 def run_spatial(args: argparse.Namespace) -> int:
     """The spatial branch of ``domes kinematics`` (same options; --method and --accuracy do not apply)."""
+    from domes.io.mechanisms import load_spatial
+    from domes.motion.spatial.sweep import spatial_sweep
+
     mech = load_spatial(args.file)
     if not mech.inputs:
         raise InputError(f"{args.file}: the mechanism has no input")

@@ -7,13 +7,15 @@ import json
 
 from domes.cli.common import confirm
 from domes.errors import InputError
-from domes.typesynth.number import count_link_assortments, link_assortments, number_synthesis
+
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {"synthesis": "number synthesis: links and joints from DOF, loops, λ and gear pairs"}
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "synthesis",
-        help="number synthesis: links and joints from DOF, loops, λ and gear pairs",
+        help=COMMANDS["synthesis"],
         description="Number synthesis (DOMES §7-2): i = W + (λ−1)L − j_G + 1, j = W + λL − j_G, "
         "and the link assortments of Table 3-1.",
     )
@@ -36,6 +38,8 @@ COUNTED_LOOPS = 1000
 
 
 def run(args: argparse.Namespace) -> int:
+    from domes.typesynth.number import count_link_assortments, link_assortments, number_synthesis
+
     result = number_synthesis(args.dof, args.loops, args.space, args.gear_pairs)
     assortments = []
     if result.loops >= 1 and not args.no_assortments:

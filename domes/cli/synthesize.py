@@ -18,27 +18,25 @@ import math
 import sys
 
 from domes.cli.common import finite_json, parallel_options, progress_printer, write_output
-from domes.design.synthesis import synthesize
-from domes.design.synthesis.candidate import CurveTask, Dimensioning
-from domes.design.synthesis.fourbars import SliderCrank
-from domes.design.synthesis.solve import generator_fourbar
-from domes.design.synthesis.task import link_ratio, min_transmission, relative_tolerance
 from domes.errors import InputError
 from domes.execution import InProcess, executor
-from domes.io.atlas import atlas_path, default_atlas
 from domes.io.files import check_target
-from domes.io.tasks import load_spatial_task, load_task
-from domes.motion.coupler.atlas import Atlas
-from domes.sketch.synthesis import synthesis_html
 
 #: Seconds between progress lines when stderr is not a terminal (a log): at most one line per interval.
 LOG_EVERY = 5.0
 
 
+#: The subcommands registered here and their line in ``domes --help``.
+COMMANDS = {
+    "synthesize": "dimension a four-bar for a task file: rigid-body guidance, function or path generation, every "
+    "solution",
+}
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "synthesize",
-        help="dimension a four-bar for a task file: rigid-body guidance, function or path generation, every solution",
+        help=COMMANDS["synthesize"],
         description="Dimensional synthesis (seed 002 §2-3): every real four-bar that meets the task's precision "
         "positions (guidance: 3 positions in closed form, 4 on the circle-point curve, 5 at the Burmester "
         "points; function generation: 3, 4 or 5 precision points, with the structural error over the range and "
@@ -80,6 +78,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args) -> int:
+    from domes.design.synthesis import synthesize
+    from domes.design.synthesis.candidate import CurveTask, Dimensioning
+    from domes.design.synthesis.task import link_ratio, min_transmission, relative_tolerance
+    from domes.io.tasks import load_spatial_task, load_task
+    from domes.sketch.synthesis import synthesis_html
+
     if args.output:
         check_target(args.output)
     spatial = load_spatial_task(args.task)
@@ -113,6 +117,9 @@ def run(args) -> int:
 def _atlas(choice: str):
     """The atlas whose look-up seeds a path task: ``small`` (from the data folder, built there first if need be),
     ``quick`` (built in memory), ``none``; ``auto``: the small one when it is built, else the quick one."""
+    from domes.io.atlas import atlas_path, default_atlas
+    from domes.motion.coupler.atlas import Atlas
+
     if choice == "none":
         return False
     if choice == "small" or (choice == "auto" and atlas_path("small").is_file()):
@@ -148,6 +155,8 @@ def _solution_dict(s, name):
 
 
 def _generator_mechanism(g, name):
+    from domes.design.synthesis.solve import generator_fourbar
+
     return generator_fourbar(g, g.theta0, g.phi0).mechanism(name + " (re-spaced)").to_dict()
 
 
@@ -167,6 +176,8 @@ def _fmt(p) -> str:
 
 
 def _text(result, everything: bool) -> str:
+    from domes.design.synthesis.fourbars import SliderCrank
+
     lines = [f"# {result.message}"] + [f"# {n}" for n in result.notes]
     shown = result.solutions if everything else result.usable
     for k, s in enumerate(shown, 1):

@@ -36,10 +36,20 @@ def thread_limit() -> int | None:
     return int(text)
 
 
+#: The environment variables by which the numerical libraries (OpenBLAS, MKL, BLIS, OpenMP) size their thread
+#: pools as they load.
+THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS", "OMP_NUM_THREADS")
+
+
 @contextmanager
 def limited_threads(limit: int | None | str = "env"):
     """Run the body with the numerical libraries' thread pools limited to ``limit`` threads (``"env"``: from
-    :func:`thread_limit`; None: not limited). Yields the limit in force."""
+    :func:`thread_limit`; None: not limited). Yields the limit in force.
+
+    The libraries already loaded are limited by threadpoolctl; those the body loads itself (a command imports
+    its numerical modules when it runs) read the limit from the environment as they load, so it is put there
+    for the body's time too.
+    """
     from threadpoolctl import threadpool_limits
 
     if limit == "env":
@@ -47,5 +57,14 @@ def limited_threads(limit: int | None | str = "env"):
     if limit is None:
         yield None
         return
-    with threadpool_limits(limits=limit):
-        yield limit
+    saved = {name: os.environ.get(name) for name in THREAD_VARIABLES}
+    os.environ.update(dict.fromkeys(THREAD_VARIABLES, str(limit)))
+    try:
+        with threadpool_limits(limits=limit):
+            yield limit
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value

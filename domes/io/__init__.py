@@ -11,15 +11,46 @@ and values into files (always written atomically, :mod:`domes.io.files`):
 - :mod:`domes.io.graphs` -- labelled graphs (JSON);
 - :mod:`domes.io.transcripts` -- answers files and design transcripts.
 
+The names below are loaded on first use (PEP 562): ``from domes.io.files import ...`` does not load the scenes'
+design stack.
+
+>>> from domes.io import load_scene
 >>> load_scene("motorcycle").links
 6
 """
 
-from domes.io.mechanisms import load_mechanism, save_mechanism
-from domes.io.scenes import load_scene, parse_scene, scene_names
-from domes.io.topology import from_mtm, read_topology, to_mtm, write_topology
+from __future__ import annotations
+
+import importlib
+
+#: Each re-exported name and the module it comes from, imported on first use.
+_LAZY = {
+    "from_mtm": "domes.io.topology",
+    "load_mechanism": "domes.io.mechanisms",
+    "load_scene": "domes.io.scenes",
+    "parse_scene": "domes.io.scenes",
+    "read_topology": "domes.io.topology",
+    "save_mechanism": "domes.io.mechanisms",
+    "scene_names": "domes.io.scenes",
+    "to_mtm": "domes.io.topology",
+    "write_topology": "domes.io.topology",
+}
 
 __all__ = [
     "from_mtm", "load_mechanism", "load_scene", "parse_scene", "read_topology", "save_mechanism", "scene_names",
     "to_mtm", "write_topology",
 ]
+
+
+def __getattr__(name: str):
+    """A name of :data:`__all__`, imported from its module on first use (and kept here)."""
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -31,6 +31,9 @@ from domes.errors import InputError
 
 KNOWLEDGE_ENV = "DOMES_KNOWLEDGE"
 HOME_ENV = "DOMES_HOME"
+#: The environment variable naming the case base (an SQLAlchemy URL or an SQLite file), used by
+#: :mod:`domes.store.casebase`; here so the command line's help can name it without loading SQLAlchemy.
+DB_ENV = "DOMES_DB"
 CASEBASE_NAME = "casebase.db"
 
 log = logging.getLogger("domes")

@@ -44,7 +44,7 @@ from sqlalchemy.orm import Session
 from domes.errors import DomesError, InputError
 from domes.io.criteria import check_unique, read_cases, read_knowledge
 from domes.io.files import missing_folder, why_not_made
-from domes.io.resources import default_casebase, knowledge_dir, shipped_casebase, user_casebase
+from domes.io.resources import DB_ENV, default_casebase, knowledge_dir, shipped_casebase, user_casebase
 from domes.knowledge.frames import CriterionFrame
 from domes.knowledge.problems import ProblemFrame
 from domes.store.models import (
@@ -56,8 +56,6 @@ from domes.store.models import (
     ProblemRow,
     SchemaVersion,
 )
-
-DB_ENV = "DOMES_DB"
 
 
 def database_url(db: str | None = None, write: bool = False) -> str:
