@@ -25,7 +25,7 @@ Example
 
 from __future__ import annotations
 
-import importlib
+from domes.io.lazy import exports
 
 __version__ = "0.1.0"
 
@@ -51,15 +51,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    """A name of :data:`__all__`, imported from its module on first use (and kept here)."""
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = exports(globals(), _LAZY)

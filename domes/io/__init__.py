@@ -21,7 +21,7 @@ design stack.
 
 from __future__ import annotations
 
-import importlib
+from domes.io.lazy import exports
 
 #: Each re-exported name and the module it comes from, imported on first use.
 _LAZY = {
@@ -42,15 +42,4 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str):
-    """A name of :data:`__all__`, imported from its module on first use (and kept here)."""
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = exports(globals(), _LAZY)
