@@ -69,6 +69,7 @@ BASE = {
     "curves atlas": ["curves", "atlas", "info", "--file", "ATLAS.h5"],
     "curves match": ["curves", "match", "examples/curves/figure-eight.csv", "--atlas", "ATLAS.h5", "--candidates", "2",
                      "--results", "1"],
+    "drum": ["drum", "knowledge/mechanisms/tyre-drum-fig5-1.json"],
 }
 
 HOSTILE = ["", " ", "nan", "inf", "-1", "0", "1e309", "99999999999999999999", "🙂 ∑", "/", "/nonexistent/x.json",

@@ -37,6 +37,7 @@ SUBCOMMAND_MODULES = (
     "domes.cli.catalogue",
     "domes.cli.draw",
     "domes.cli.design",
+    "domes.cli.drum",
 )
 
 
