@@ -38,7 +38,9 @@ from domes.io.scenes import load_scene, scene_names
 from domes.io.transcripts import TRANSCRIPT_FORMAT
 from domes.knowledge.problems import ProblemFrame
 from domes.model.labelled import LabelledChain
+from domes.model.mobility import SPATIAL
 from domes.results import Progress
+from domes.typesynth.spatial import loop_reading
 
 
 @dataclass
@@ -104,6 +106,9 @@ class Dialogue:
             cases = self.world.solved_in_class(engine.attr("class"))
             self.say(f"Solved problems of class {engine.attr('class')!r}:")
             for c in cases:
+                if c.space == SPATIAL:
+                    self.say(f"  {c.id}: {spatial_case_text(c)}; attributes {', '.join(sorted(c.names)) or 'none'}")
+                    continue
                 self.say(f"  {c.id}: DOF {c.dof}, {c.loops} loops, {c.links} links, {c.joints} joints, "
                          f"{c.slider_pairs or 0} sliders, {c.gear_pairs or 0} gear pairs; "
                          f"attributes {', '.join(sorted(c.names)) or 'none'}")
@@ -122,6 +127,9 @@ class Dialogue:
         if qid == "verify":
             kept = {c["id"]: LabelledChain.from_dict(c) for c in self.world.run_result.kept}
             asks = _scene_checks(engine.attr("scene"))
+            if self.world.run_result.problem.space == SPATIAL:
+                asks += (" The checks are of planar mechanisms: a spatial candidate is dimensioned by domes synthesize "
+                         "(an RSSR or RCCC task, docs/spatial.md).")
             return Question("verify", "Verify dimensions? (none; CANDIDATE FILE.json CHECK, CHECK is rotatability, "
                             "range OUTPUT FROM:TO, force-ratio OUTPUT FROM:TO [RATIO], wheel-rate POINT SPRING FROM:TO "
                             "or drive FROM:TO; path POINTS.csv: which four-bar traces it?; or dimension CANDIDATE "
@@ -244,10 +252,35 @@ def rejected_text(world: World) -> str:
         return "No candidate was rejected."
     words = {f.id: f.explanation for f in world.criteria()}
     lines = [f"{len(run.rejected)} rejected candidates:"]
+    spatial = {c["id"]: _joints(c) for c in run.candidates} if run.problem.space == SPATIAL else {}
     for r in run.rejected:
         why = f" ({words[r['criterion']]})" if words.get(r["criterion"]) else ""
-        lines.append(f"  candidate {r['candidate']}: rejected by {r['criterion']}{why} (level {r['level']}): {r['reason']}")
+        shown = f" ({spatial[r['candidate']]})" if r["candidate"] in spatial else ""
+        lines.append(f"  candidate {r['candidate']}{shown}: rejected by {r['criterion']}{why} (level {r['level']}): "
+                     f"{r['reason']}")
     return "\n".join(lines)
+
+
+def _joints(candidate: dict) -> str:
+    """``4 links: R-S-S-R``: a spatial candidate's links and joints, read from the input joint."""
+    joints = loop_reading(candidate)
+    n = len(candidate.get("links", ()))
+    return f"{n} links: " + ("-".join(joints) if joints else "not a single loop with a frame, input and output")
+
+
+def spatial_case_text(case: ProblemFrame) -> str:
+    """A solved spatial problem in one line: its DOF, its loop and its kept candidates' joints.
+
+    >>> from domes.typesynth.spatial import FunctionGenerator, SpatialLoop
+    >>> rssr = FunctionGenerator("RSSR", SpatialLoop("RRSS")).labelled().to_dict()
+    >>> frame = ProblemFrame("s-1", "s", dof=1, space=6, loops=1, links=7, joints=7, results=({"id": 4, **rssr},))
+    >>> spatial_case_text(frame)
+    'DOF 1, spatial (λ = 6), 1 loop, 0 sliders; 1 candidate kept: R-S-S-R'
+    """
+    kept = [_joints(c).split(": ")[-1] for c in case.results]
+    loops = f"{case.loops} loop{'' if case.loops == 1 else 's'}"
+    return (f"DOF {case.dof}, spatial (λ = 6), {loops}, {case.slider_pairs or 0} sliders; "
+            f"{len(kept)} candidate{'' if len(kept) == 1 else 's'} kept" + (f": {', '.join(kept)}" if kept else ""))
 
 
 def _scene_checks(scene: str | None) -> str:

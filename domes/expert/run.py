@@ -182,7 +182,7 @@ def spatial_candidates(problem: ProblemFrame) -> tuple[list[tuple[LabelledChain,
         f"H, C and S joints and {sliders} P joint(s), DOF 1 by Kutzbach less the idle spins of links held by two S "
         f"joints, loops whose joints cannot all move left out (docs/spatial.md); the structure rule's "
         f"{largest} links hold for one-freedom joints. Screening applies the criteria to the chain's graph, roles "
-        "and joint types (Cyl, Sph, Hel); no criterion of spatial motion is in the knowledge base yet"
+        "and joint types (Cyl, Sph, Hel); the spatial criteria are those of knowledge/criteria/05-spatial.toml"
     )
 
 
@@ -200,8 +200,11 @@ def _relaxations(graphs, criteria, problem, relevance) -> tuple[tuple[str, int],
 
 
 def scene_roles(problem: ProblemFrame) -> tuple[str, ...]:
-    """The roles the candidates of ``problem`` can carry: its scene's, or none without a scene."""
-    return tuple(load_scene(problem.scene).roles) if problem.scene else ()
+    """The roles the candidates of ``problem`` can carry: its scene's; a spatial problem's function generators'
+    (the frame, the input and the output); none otherwise."""
+    if problem.scene:
+        return tuple(load_scene(problem.scene).roles)
+    return ("ground", "input", "output") if problem.space == SPATIAL else ()
 
 
 def outcome_text(run: DesignRun) -> str:

@@ -31,9 +31,11 @@ from domes.knowledge.problems import ProblemFrame
 from domes.knowledge.relevance import is_relevant, relevance_vector, unavailable_names
 from domes.language.render import render_relevance
 from domes.language.tree import AnyOf, ClassIs, Relevance, names_used
+from domes.model.mobility import SPATIAL
 from domes.results import Progress
 from domes.store.casebase import KnowledgeBase
 from domes.typesynth.number import number_synthesis
+from domes.typesynth.spatial import spatial_phrase
 
 
 class World:
@@ -303,7 +305,9 @@ class World:
 
     def run(self, engine) -> None:
         problem = self.problem(engine)
-        self.say(f"Designing: {problem.links} links, {problem.joints} joints, DOF {problem.dof}"
+        size = (f"spatial single loops of 3 to {problem.links} links" if problem.space == SPATIAL
+                else f"{problem.links} links, {problem.joints} joints")
+        self.say(f"Designing: {size}, DOF {problem.dof}"
                  + (f", scene {problem.scene}" if problem.scene else "") + " ...")
         criteria = self.criteria()
         self.run_result = design(problem, criteria, problem.relevance, vary=self.vary, progress=self.progress)
@@ -363,8 +367,9 @@ class World:
             self.say(f"The report could not be written: {exc}")
             return
         files = sum(d.get("status") == "feasible" for d in frame.designs)
+        kept = " (the kept loops, by their joints)." if frame.space == SPATIAL else " (the kept candidates, sketched)."
         self.say(f"Report: {page}" + (f" (and a mechanism file for each of the {files} feasible designs beside it)."
-                                     if files else " (the kept candidates, sketched)."))
+                                     if files else kept))
 
     def verify(self, candidate: int, mech, check, path: str) -> None:
         """Run a dimensional check on a kept candidate; the result joins the design's notes."""
@@ -471,10 +476,11 @@ def result_text(run: DesignRun, criteria=()) -> str:
     def named(criterion_id: str) -> str:
         return f"{criterion_id} ({words[criterion_id]})" if words.get(criterion_id) else criterion_id
 
-    lines = [f"{len(run.kept)} of {len(run.candidates)} candidates kept ({run.links} links, {run.joints} joints)."]
+    spatial = run.problem.space == SPATIAL
+    lines = [f"{len(run.kept)} of {len(run.candidates)} candidates kept ({_size(run)})."]
     for c in run.kept:
         flag = "  EXISTING" if c.get("existing") else ""
-        lines.append(f"  candidate {c['id']}: {_roles(c)}{flag}")
+        lines.append(f"  candidate {c['id']}: {spatial_phrase(c) if spatial else _roles(c)}{flag}")
     removed: dict[str, int] = {}
     for r in run.rejected:
         removed[r["criterion"]] = removed.get(r["criterion"], 0) + 1
@@ -491,15 +497,27 @@ def result_text(run: DesignRun, criteria=()) -> str:
     return "\n".join(lines)
 
 
+def _size(run: DesignRun) -> str:
+    """``6 links, 7 joints``; for a spatial run the sizes of its single loops (``single loops of 4 links``)."""
+    if run.problem.space != SPATIAL:
+        return f"{run.links} links, {run.joints} joints"
+    sizes = sorted({len(c["links"]) for c in (run.kept or run.candidates)}) or [0]
+    return "spatial single loops of " + (f"{sizes[0]} to {sizes[-1]}" if len(sizes) > 1 else f"{sizes[0]}") + " links"
+
+
 def frame_text(frame: ProblemFrame) -> str:
     """A stored problem frame and its result."""
+    spatial = frame.space == SPATIAL
+    structure = (f"DOF {frame.dof}, spatial (λ = 6), {frame.loops} loop(s), {frame.slider_pairs or 0} sliders"
+                 if spatial else f"DOF {frame.dof}, {frame.loops} loops, {frame.links} links, {frame.joints} joints, "
+                 f"{frame.slider_pairs or 0} sliders, {frame.gear_pairs or 0} gear pairs")
     lines = [
-        f"case {frame.id} ({frame.problem_class}): DOF {frame.dof}, {frame.loops} loops, {frame.links} links, "
-        f"{frame.joints} joints, {frame.slider_pairs or 0} sliders, {frame.gear_pairs or 0} gear pairs",
+        f"case {frame.id} ({frame.problem_class}): {structure}",
         f"  representative attributes: {', '.join(sorted(frame.names)) or 'none'}",
         f"  {len(frame.results)} candidates:",
     ]
-    lines += [f"  candidate {c.get('id')}: {_roles(c)}{'  EXISTING' if c.get('existing') else ''}" for c in frame.results]
+    lines += [f"  candidate {c.get('id')}: {spatial_phrase(c) if spatial else _roles(c)}"
+              f"{'  EXISTING' if c.get('existing') else ''}" for c in frame.results]
     if frame.requirements:
         lines.append("  requirements: " + "; ".join(f"{r.label or r.id} {r.shown}" for r in frame.requirements))
     ranked = sorted((d for d in frame.designs if d.get("status") == "feasible"), key=lambda d: d.get("rank", 0))

@@ -65,8 +65,8 @@ from domes.results import Listing, Status
 
 __all__ = [
     "FREEDOMS", "FunctionGenerator", "INPUT_JOINTS", "LABELLED_TYPES", "OUTPUT_JOINTS", "function_generators",
-    "generic_mobility", "MAX_LOOP_LINKS", "SPATIAL_JOINT_TYPES", "SpatialLoop", "SpatialLoops", "canonical_loop",
-    "kutzbach", "idle_freedoms", "spatial_loops",
+    "generic_mobility", "MAX_LOOP_LINKS", "SPATIAL_JOINT_TYPES", "SPATIAL_LETTERS", "SpatialLoop", "SpatialLoops",
+    "canonical_loop", "kutzbach", "idle_freedoms", "loop_reading", "spatial_loops", "spatial_phrase",
 ]
 
 #: Freedoms of the spatial lower pairs, in the order that ranks the readings of a loop.
@@ -418,3 +418,78 @@ def function_generators(loops: SpatialLoops | list[SpatialLoop], proper: bool = 
                 if reading[0] in INPUT_JOINTS and reading[-1] in OUTPUT_JOINTS:
                     found.setdefault(reading, FunctionGenerator(reading, loop))
     return list(found.values())
+
+
+#: Spatial joint letters of the labelled chains' symbols (the inverse of :data:`LABELLED_TYPES`).
+SPATIAL_LETTERS = {symbol: letter for letter, symbol in LABELLED_TYPES.items()}
+
+
+def loop_reading(candidate: LabelledChain | dict) -> str | None:
+    """The joints of a single-loop function generator, read from the input joint round to the output joint.
+
+    ``candidate`` is a labelled chain (or its plain data) as
+    :meth:`FunctionGenerator.labelled` makes it: one loop, a link with the
+    role ``ground``, its neighbours ``input`` and ``output``. None when it is
+    not such a loop (several loops, no frame, input or output off the frame).
+
+    >>> loop_reading(FunctionGenerator("RSSR", SpatialLoop("RRSS")).labelled().to_dict())
+    'RSSR'
+    """
+    walk = _walk(candidate)
+    return None if walk is None else walk[0]
+
+
+def _walk(candidate: LabelledChain | dict) -> tuple[str, tuple[int, ...]] | None:
+    """The joint letters from the input joint round to the output joint, and the links passed (frame first)."""
+    chain = candidate if isinstance(candidate, LabelledChain) else LabelledChain.from_dict(candidate)
+    if chain.n < 3 or len(chain.edges) != chain.n or any(d != 2 for d in chain.degrees):
+        return None
+    role = {r: [v for v in range(chain.n) if r in chain.roles[v]] for r in ("ground", "input", "output")}
+    if any(len(found) != 1 for found in role.values()):
+        return None
+    ground, first, last = role["ground"][0], role["input"][0], role["output"][0]
+    if first == last or {first, last} != set(chain.neighbours[ground]):
+        return None
+    letters, links, before, link = [], [ground], ground, first
+    while True:
+        letters.append(SPATIAL_LETTERS.get(chain.joint_type(before, link), "?"))
+        if link == ground:
+            break
+        links.append(link)
+        before, link = link, next(v for v in chain.neighbours[link] if v != before)
+    return "".join(letters), tuple(links)
+
+
+def spatial_phrase(candidate: LabelledChain | dict) -> str:
+    """A spatial candidate in words: its links and joints read from the input joint, and its DOF count.
+
+    The DOF is the Kutzbach count ``Σ f − 6`` less the idle spins; a link
+    held by two S joints is flagged: it spins about the line through their
+    centres, a freedom the count sees that drives nothing (seed 001's RSSR:
+    count 2, DOF 1).
+
+    >>> spatial_phrase(FunctionGenerator("RSSR", SpatialLoop("RRSS")).labelled())
+    '4 links: R-S-S-R, DOF 1 (Kutzbach count 2, less 1 idle spin: link 2 turns freely about the line through the centres of its two S joints)'
+    >>> spatial_phrase(FunctionGenerator("RCCC", SpatialLoop("RCCC")).labelled())
+    '4 links: R-C-C-C, DOF 1'
+    """
+    walk = _walk(candidate)
+    if walk is None:
+        chain = candidate if isinstance(candidate, LabelledChain) else LabelledChain.from_dict(candidate)
+        return f"{chain.n} links, {len(chain.edges)} joints ({', '.join(chain.joint_types)}): not a single loop"
+    joints, links = walk
+    n = len(joints)
+    text = f"{n} links: {'-'.join(joints)}"
+    if "?" in joints:
+        return text
+    spinning = [k for k in range(1, n) if joints[k - 1] == joints[k] == "S"]
+    if joints[-1] == joints[0] == "S":
+        spinning.append(0)
+    dof = kutzbach(joints) - len(spinning)
+    if not spinning:
+        return f"{text}, DOF {dof}"
+    which = ", ".join(f"link {links[k]}" for k in spinning)
+    verb = "turns" if len(spinning) == 1 else "turn"
+    return (f"{text}, DOF {dof} (Kutzbach count {kutzbach(joints)}, less {len(spinning)} idle spin"
+            f"{'' if len(spinning) == 1 else 's'}: {which} {verb} freely about the line through the centres of "
+            f"{'its' if len(spinning) == 1 else 'their'} two S joints)")
