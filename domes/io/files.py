@@ -161,19 +161,30 @@ def check_target(path: str | Path) -> Path:
     return path
 
 
+def temporary_beside(path: str | Path) -> tuple[int, str]:
+    """An open descriptor and the name of a new temporary file in ``path``'s folder, to be renamed over ``path``
+    by :func:`publish` when complete (or deleted): a writer that is interrupted leaves the old file as it was."""
+    path = check_target(path)
+    try:
+        return tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as exc:
+        raise InputError(f"cannot write {path}: {exc.strerror}") from None
+
+
+def publish(tmp: str, path: str | Path) -> None:
+    """Give the complete temporary file ``tmp`` the user's usual permissions and rename it over ``path``."""
+    os.chmod(tmp, 0o666 & ~_umask())
+    os.replace(tmp, path)
+
+
 def write_atomic(path: str | Path, text: str | bytes) -> None:
     """Write ``text`` (or bytes) to ``path`` through a temporary file in the same folder and a rename."""
     path = check_target(path)
-    folder = path.parent
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=folder)
-    except OSError as exc:
-        raise InputError(f"cannot write {path}: {exc.strerror}") from None
+    fd, tmp = temporary_beside(path)
     try:
         with os.fdopen(fd, "wb") as out:
             out.write(text if isinstance(text, bytes) else text.encode("utf-8"))
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
+        publish(tmp, path)
     except OSError as exc:
         raise InputError(f"cannot write {path}: {exc.strerror}") from None
     finally:
