@@ -198,7 +198,9 @@ class Drum:
             raise InputError(f"{mech.name}: no tiles (polygons named 'tile …')")
         tiles = tuple(sorted(shapes))
         drum = cls(mech, tuple(axis.at), count or 1, tiles, 0.0, 0.0, shapes)
-        qd = drum._find_deployed() if deployed is None else deployed
+        if deployed is None or folded is None:                  # one sweep finds both poses
+            qs, residual, envelope, drawn = drum._scan()
+        qd = drum._least(qs, residual, drum.cylinder_residual, 1e-11, drawn) if deployed is None else deployed
         drum = dataclasses.replace(drum, deployed=qd)
         if count is None:
             spans = drum.spans(qd)
@@ -208,7 +210,7 @@ class Drum:
                 raise InputError(f"{mech.name}: the deployed tiles cover {math.degrees(total):.6g}° of the turn, not a "
                                  "whole fraction of it: give the tile count")
             drum = dataclasses.replace(drum, count=n)
-        qf = drum._find_folded() if folded is None else folded
+        qf = drum._least(qs, envelope, drum.envelope, 1e-9, drawn) if folded is None else folded
         return dataclasses.replace(drum, folded=qf)
 
     # geometry at one input -------------------------------------------------------------------------------
@@ -332,12 +334,11 @@ class Drum:
             env = np.maximum(env, self.radii(j).max(axis=1))
         return qs, residual, env, drawn
 
-    def _find_deployed(self) -> float:
-        qs, res, _, drawn = self._scan()
-        k = int(np.argmin(res))
+    def _least(self, qs, values, f, xatol: float, drawn: float) -> float:
+        """The input where ``f`` is least: the scan's least sample refined between its neighbours (Brent)."""
+        k = int(np.argmin(values))
         lo, hi = qs[max(k - 1, 0)], qs[min(k + 1, qs.size - 1)]
-        r = minimize_scalar(lambda q: self._safe(self.cylinder_residual, q), bounds=(lo, hi), method="bounded",
-                            options={"xatol": 1e-11})
+        r = minimize_scalar(lambda q: self._safe(f, q), bounds=(lo, hi), method="bounded", options={"xatol": xatol})
         return _wrap(float(r.x), drawn)
 
     def envelope(self, q: float) -> float:
@@ -345,14 +346,6 @@ class Drum:
         r = [self.radii(v).max() for v in self.world(q).values()]
         j = self.joints_world(q)
         return float(max(max(r), self.radii(j).max() if j.size else 0.0))
-
-    def _find_folded(self) -> float:
-        qs, _, env, drawn = self._scan()
-        k = int(np.argmin(env))
-        lo, hi = qs[max(k - 1, 0)], qs[min(k + 1, qs.size - 1)]
-        r = minimize_scalar(lambda q: self._safe(self.envelope, q), bounds=(lo, hi), method="bounded",
-                            options={"xatol": 1e-9})
-        return _wrap(float(r.x), drawn)
 
     @staticmethod
     def _safe(f, q) -> float:

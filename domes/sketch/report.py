@@ -6,7 +6,8 @@ Sections: the problem (the frame's attributes, the scene and the requirements wi
 screening levels F1-F5 of seed 002 §5-3, then the feasibility level); the ranked designs (each drawn to
 scale, moving through its stroke, its curve against the wanted one, every check with its value and limit,
 and each factor's part of its score); the designs that are not feasible and why; the session's notes. A
-session without requirements stops at the screening: its kept candidates are drawn as sketches instead.
+session without requirements stops at the screening: its kept candidates are drawn as sketches instead. A
+spatial problem (λ = 6) gets :func:`spatial_report_html`: its single loops told by their joints.
 
 >>> from domes.knowledge.problems import ProblemFrame
 >>> frame = ProblemFrame("demo-1", "demo", dof=1, loops=1, results=({"id": 1},), rejected=())
@@ -38,6 +39,7 @@ from domes.sketch.curves import animated_svg
 from domes.sketch.dimensioned import dimensioned_svg
 from domes.sketch.svg import document, num, tag
 from domes.sketch.synthesis import curve_svg
+from domes.typesynth.spatial import SPATIAL_JOINT_TYPES, loop_reading, spatial_phrase
 
 STYLE = CARD_STYLE + """
 h2.section { font-size: 1.15em; border-bottom: 1px solid #ccd; margin-top: 1.6em; }
@@ -132,13 +134,58 @@ def report_html(frame: ProblemFrame, words: dict | None = None, scene_title: str
             body.append(tag("table", children=rows))
     else:
         body += _kept(frame)
-    if frame.notes:
-        body.append(tag("h2", {"class": "section"}, text="Notes"))
-        body.append(tag("ul", children=[tag("li", text=n) for n in frame.notes]))
+    return _page(title, body, frame.notes)
+
+
+def _page(title: str, body: list[str], notes) -> str:
+    """The whole page: ``body`` and the session's ``notes``, with the title and the style in its head."""
+    if notes:
+        body = body + [tag("h2", {"class": "section"}, text="Notes"), tag("ul", children=[tag("li", text=n)
+                                                                                          for n in notes])]
     head = [tag("meta", {"charset": "utf-8"}), tag("title", text=title), tag("style", text=STYLE)]
     page = tag("html", {"xmlns": "http://www.w3.org/1999/xhtml", "lang": "en"},
                [tag("head", children=head), "\n", tag("body", children=body), "\n"])
     return "<!DOCTYPE html>\n" + page + "\n"
+
+
+def spatial_report_html(frame: ProblemFrame, words: dict | None = None) -> str:
+    """The report page of a spatial design (λ = 6): the problem, the funnel with the criterion that removed each
+    group, and the kept single loops told by their joints, read from the input joint on the frame round to the
+    output joint, with their DOF and any idle spin flagged.
+
+    >>> from domes.typesynth.spatial import FunctionGenerator, SpatialLoop
+    >>> rssr = FunctionGenerator("RSSR", SpatialLoop("RRSS")).labelled().to_dict()
+    >>> page = spatial_report_html(ProblemFrame("s-1", "spatial fg", dof=1, space=6, loops=1, links=7, joints=7,
+    ...                                         results=({"id": 4, **rssr},)))
+    >>> "R-S-S-R" in page and "1 idle spin" in page and "spatial (λ = 6)" in page
+    True
+    """
+    words = words or {}
+    title = f"Design report: {(frame.title or frame.problem_class).replace('_', ' ')}"
+    body = [tag("h1", text=title),
+            tag("p", {"class": "summary"}, text=f"case {frame.id}" + (f", {frame.date}" if frame.date else "")
+                + "; DOMES-py design session (docs/expert.md), spatial type synthesis (docs/spatial.md)")]
+    sizes = sorted({len(c.get("links", ())) for c in frame.results}) or [frame.links or 0]
+    loops = (f"single loops of {sizes[0]} to {sizes[-1]} links" if sizes[0] != sizes[-1]
+             else f"single loops of {sizes[0]} links") + ", as many joints"
+    problem = [("class", frame.problem_class.replace("_", " ")), ("mechanism type", "spatial (λ = 6)"),
+               ("degrees of freedom", frame.dof), ("independent loops", frame.loops),
+               ("candidates kept", f"{loops} (the structure rule's {frame.links} links, {frame.joints} joints "
+                                   "hold for joints of one freedom)"),
+               ("joints", ", ".join(f"{t} {name}" for t, name in SPATIAL_JOINT_TYPES.items())),
+               ("sliders (P joints), gear pairs", f"{frame.slider_pairs or 0}, {frame.gear_pairs or 0}"),
+               ("representative attributes", ", ".join(sorted(n.replace("_", " ") for n in frame.names)) or "none")]
+    body += [tag("h2", {"class": "section"}, text="Problem"), _table(problem)]
+    rows = [(r.stage, r.count, "; ".join(f"{k} removed by {what}" for what, k in r.removed))
+            for r in funnel(frame, words)]
+    body += [tag("h2", {"class": "section"}, text="Funnel"), _table(rows, ("level", "kept", "removed"))]
+    body.append(tag("h2", {"class": "section"}, text=f"Candidates kept ({len(frame.results)})"))
+    body.append(tag("p", {"class": "note"}, text="Each candidate is a frame (link 0), an input jointed to it and "
+                    "an output jointed to it; its joints are read from the input joint round to the output joint. "
+                    "Type synthesis gives no dimensions: dimension an RSSR or RCCC with domes synthesize."))
+    kept = [(str(c.get("id")), "-".join(loop_reading(c) or "?"), spatial_phrase(c)) for c in frame.results]
+    body.append(_table(kept, ("candidate", "joints", "links, joints and DOF")))
+    return _page(title, body, frame.notes)
 
 
 def _table(rows, header=None) -> str:

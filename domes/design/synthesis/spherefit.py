@@ -62,8 +62,24 @@ class SphereFrame:
         return self.centre + self.radius * np.asarray(points, dtype=float)
 
 
+class _Residuals:
+    """``rms`` and ``worst`` of a fit's ``residuals`` (distances of the points from their spheres)."""
+
+    residuals: np.ndarray
+
+    @property
+    def rms(self) -> float:
+        """Root mean square distance of the points from the sphere."""
+        return float(np.sqrt(np.mean(self.residuals ** 2)))
+
+    @property
+    def worst(self) -> float:
+        """The largest distance of a point from the sphere."""
+        return float(np.max(np.abs(self.residuals)))
+
+
 @dataclass(frozen=True)
-class Sphere(Result):
+class Sphere(_Residuals, Result):
     """A fitted sphere: ``centre``, ``radius``, ``residuals`` (each point's signed distance ``|p − c| − R``),
     ``method`` (``"exact"`` for four points, (2-87)/(2-88); ``"algebraic"``; or ``"geometric"``, the algebraic
     fit refined)."""
@@ -76,16 +92,6 @@ class Sphere(Result):
     message: str = ""
 
     @property
-    def rms(self) -> float:
-        """Root mean square distance of the points from the sphere."""
-        return float(np.sqrt(np.mean(self.residuals ** 2)))
-
-    @property
-    def worst(self) -> float:
-        """The largest distance of a point from the sphere."""
-        return float(np.max(np.abs(self.residuals)))
-
-    @property
     def worst_point(self) -> int:
         """The (1-based) number of the point farthest from the sphere."""
         return int(np.argmax(np.abs(self.residuals))) + 1
@@ -96,7 +102,7 @@ class Sphere(Result):
 
 
 @dataclass(frozen=True)
-class MotionFit(Result):
+class MotionFit(_Residuals, Result):
     """Concentric spheres of several body points of one motion (:func:`fit_motion`): the common ``centre``, a
     ``radii`` each, ``residuals[j, k]`` the distance of body point k in position j from its sphere."""
 
@@ -106,14 +112,6 @@ class MotionFit(Result):
     method: str
     status: Status = Status.COMPLETE
     message: str = ""
-
-    @property
-    def rms(self) -> float:
-        return float(np.sqrt(np.mean(self.residuals ** 2)))
-
-    @property
-    def worst(self) -> float:
-        return float(np.max(np.abs(self.residuals)))
 
     @property
     def worst_at(self) -> tuple[int, int]:
