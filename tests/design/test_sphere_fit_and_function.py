@@ -34,12 +34,8 @@ from domes.model.spatial import SpatialInput, SpatialJoint, SpatialMechanism
 from domes.motion.spatial.spherical import SphericalFourBar as Moved
 from domes.motion.spatial.sweep import spatial_sweep
 from domes.results import Status
+from tests.design.test_sphere import P, Q  # Example 3 (digest A.3.3 (2)), normalised, p1y corrected to 0.482820
 
-# Example 3 (digest A.3.3 (2)), normalised as printed, p1y corrected to 0.482820
-P = np.array([(0.105040, 0.482820, 0.869397), (0.090725, 0.541283, 0.835931), (0.104155, 0.620000, 0.777658),
-              (0.096772, 0.725698, 0.681173)])
-Q = np.array([(-0.464640, -0.676760, 0.571057), (-0.133748, -0.751642, 0.645868), (0.161113, -0.702067, 0.693646),
-              (0.400762, -0.564306, 0.721769)])
 # a laboratory frame for the "measured" data: centre, radius (mm) and a turn
 LAB_C, LAB_R, LAB_TURN = np.array([120.0, -35.0, 410.0]), 95.0, rot(np.array([1.0, 2.0, 2.0]) / 3.0, 0.4)
 X = np.array([1.0, 0.0, 0.0])
