@@ -3,7 +3,8 @@
 A job folder holds ``job.json`` (what kind of job, and the settings its
 files depend on), the finished results, and in ``parts/`` the partitions of
 the stage under way. Every file is written atomically (a temporary file
-renamed over it), so a run killed at any moment leaves only whole files;
+renamed over it), so a run killed at any moment leaves only whole files
+(and perhaps a hidden temporary, removed when the folder is opened again);
 rerun with the same folder, the job loads what is there and computes the
 rest. A folder made for another kind of job, or other settings, is refused
 with a message rather than mixed.
@@ -66,6 +67,17 @@ class JobFolder:
             self._make(self.path)
             self._write_marker()
         self._make(self.path / "parts")
+        self._sweep()
+
+    def _sweep(self) -> None:
+        """Remove the temporary files a killed run left half written (``.name.XXXX.tmp``, see
+        :func:`~domes.io.files.write_atomic`): never read, they would only make the folder differ."""
+        for folder in (self.path, self.path / "parts"):
+            for tmp in folder.glob(".*.tmp"):
+                if tmp.is_file():
+                    tmp.unlink()
+                    if self.say is not None:
+                        self.say(f"{tmp}: a file a killed run left half written, removed")
 
     def _write_marker(self) -> None:
         text = json.dumps({"job": self.spec, "files": self.files}, indent=1, sort_keys=True) + "\n"

@@ -83,6 +83,20 @@ def test_interrupted_run_resumes_to_the_same_files(tmp_path):
     assert files(tmp_path / "resumed") == files(tmp_path / "whole")
 
 
+
+def test_a_killed_runs_half_written_temporaries_are_removed_on_opening(tmp_path):
+    # A SIGKILL inside write_atomic leaves `.job.json.XXXX.tmp`: the resumed folder then differed from a whole
+    # run's (the killed-command test failed so on a loaded CI machine).
+    job = JobFolder(tmp_path / "job", SPEC)
+    job.save("parts/a.ears", b"x")
+    (tmp_path / "job" / ".job.json.k2j3.tmp").write_text("{")
+    (tmp_path / "job" / "parts" / ".a.ears.q8w1.tmp").write_bytes(b"")
+    said = []
+    again = JobFolder(tmp_path / "job", SPEC, say=said.append)
+    assert sorted(files(tmp_path / "job")) == ["job.json", "parts/a.ears"]
+    assert again.load("parts/a.ears") == b"x"
+    assert len(said) == 2 and all("a killed run left half written, removed" in s for s in said)
+
 def test_job_folder_refuses_another_job_and_stray_folders(tmp_path):
     JobFolder(tmp_path / "job", SPEC)
     with pytest.raises(InputError, match="holds another job"):
