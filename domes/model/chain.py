@@ -309,6 +309,12 @@ class Chain:
             record["structural_number"] = self.structural_number
         return record
 
+    def _repr_svg_(self) -> str | None:
+        """The chain drawn as a mechanism skeleton, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "svg")
+
 
 def chain_properties(graph: nx.Graph | Chain | str | Iterable[Edge]) -> dict[str, Any]:
     """Structural properties of one chain, from a networkx graph, graph6 text or edge list.

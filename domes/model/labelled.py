@@ -405,6 +405,12 @@ class LabelledChain:
     def __hash__(self) -> int:
         return hash(self.certificate)
 
+    def _repr_svg_(self) -> str | None:
+        """The chain drawn as a mechanism sketch, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "svg")
+
 
 def share_topologies(chains: Iterable[LabelledChain]) -> None:
     """Let labelled chains on the same graph share one :class:`~domes.model.topology.Topology`.

@@ -420,6 +420,12 @@ class Mechanism(Linkage):
         out.update(mech.masses.to_dict())
         return out
 
+    def _repr_svg_(self) -> str | None:
+        """The mechanism to scale, with its coupler curves, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "svg")
+
 
 #: A cam pair's keys when it is given by its cam's profile instead of a law.
 PROFILE_KEYS = {"profile", "face", "roller", "offset", "arm", "base_radius", "profile_direction"}

@@ -258,6 +258,12 @@ class SpatialMechanism(Linkage):
                            for i in self.inputs],
                 "points": [{"name": p.name, "link": p.link, "at": list(p.at)} for p in self.points]}
 
+    def _repr_svg_(self) -> str | None:
+        """The mechanism drawn at its drawn pose, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "svg")
+
 
 def _xyz(value, where: str) -> Point3:
     if not isinstance(value, (list, tuple)) or len(value) != 3:

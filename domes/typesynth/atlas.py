@@ -729,6 +729,12 @@ class Atlas(Listing):
     def __repr__(self) -> str:
         return f"<Atlas: {self.message}>"
 
+    def _repr_html_(self) -> str | None:
+        """The first chains drawn as cards, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
+
 
 def chains(links: int, dof: int, include_fractionated: bool = False, isomorphism: str = "nauty",
            progress: Progress | None = None, generator: ChainGenerator | None = None, executor=None,

@@ -255,6 +255,12 @@ class Dimensioning(SolutionSet):
         return (f"{self.status}: {self.task_name}: {len(self.candidates)} candidate(s), {len(self.usable)} verified "
                 f"layout(s) for candidate(s) {', '.join(map(str, done)) or 'none'}; {self.seconds:.1f} s")
 
+    def _repr_html_(self) -> str | None:
+        """Every layout drawn to scale beside its curve, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
+
 
 class Model:
     """A candidate made a function of its free joint coordinates, evaluated many layouts at a time."""

@@ -132,6 +132,12 @@ class Synthesis(SolutionSet):
         return (f"{self.status}: {self.task_name}: {self.roots} real root(s), {len(self.solutions)} linkage(s), "
                 f"{len(self.usable)} usable{warned}{grouped}; {self.seconds * 1e3:.1f} ms")
 
+    def _repr_html_(self) -> str | None:
+        """Each solution at its precision positions, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
+
 
 def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, executor=None,
                min_transmission_deg: float | None = None, tolerance: float | None = None,

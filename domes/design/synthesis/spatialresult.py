@@ -50,6 +50,12 @@ class SpatialSynthesis(Result):
                 "lines": list(self.lines), "worst": self.worst, **self.details,
                 "mechanisms": [m.to_dict() for m in self.mechanisms]}
 
+    def _repr_html_(self) -> str | None:
+        """Every mechanism found, drawn, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
+
 
 def spherical_fourbar(alpha: float, a1, b1, name: str) -> SpatialMechanism:
     """The spherical four-bar of Fig. 2-20 as a spatial mechanism: input axis x, output axis at ``alpha`` in the

@@ -99,6 +99,12 @@ class _Rows:
         u, v = (float(x) for x in self.point[index])
         return four_bar(*self.lengths(index), u, v)
 
+    def _repr_html_(self) -> str | None:
+        """Some rows' linkages moving along their curves, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
+
 
 @dataclass(frozen=True, eq=False)
 class AtlasTable(_Rows):
@@ -385,6 +391,12 @@ class Atlas:
         return (f"a, b, c, d = {a:.4f}, {b:.4f}, {c:.4f}, {d:.4f} (region {region.region}), coupler point "
                 f"(u, v) = ({u:g}, {v:g}), circuit {int(self.table.circuit[index]) + 1}")
 
+    def _repr_html_(self) -> str | None:
+        """Some rows' linkages moving along their curves, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
+
 
 class OpenAtlas:
     """A :class:`WindowTable` with its k-d tree, for looking up open paths (stretches of a curve)."""
@@ -409,6 +421,12 @@ class OpenAtlas:
                               backwards, mirror)
                     best[ii] = Candidate(ii, float(dd), reading, window)
         return _nearest(best, k, (lambda i: (int(self.table.link[i]), tuple(self.table.point[i]))) if distinct else None)
+
+    def _repr_html_(self) -> str | None:
+        """Some rows' linkages moving along their curves, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
 
 
 def _nearest(best: dict, k: int, key=None) -> list[Candidate]:

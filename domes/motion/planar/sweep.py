@@ -137,6 +137,12 @@ class Sweep(Result):
         stop = next((d for d in self.dead_points if d.stops), None)
         return text + (f"; stopped: {stop.message}" if self.status is Status.STOPPED and stop else "")
 
+    def _repr_html_(self) -> str | None:
+        """Each output column plotted over the input, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
+
 
 class Steps(Sequence):
     """The steps of a :class:`Sweep`, each made into a :class:`~domes.motion.planar.query.Step` when read."""

@@ -97,6 +97,12 @@ class SpatialSweep(Result):
                      f"(condition above {SINGULAR:.0e})")
         return text + (f"; stopped: {self.limit.message}" if self.limit else "")
 
+    def _repr_html_(self) -> str | None:
+        """Each output column plotted over the input, for a notebook; None if it cannot be drawn."""
+        from domes.model.display import render
+
+        return render(self, "html")
+
 
 def _distance(a: State, b: State) -> float:
     """The largest move (fraction of the size) or turn (rad) of a link between two states."""
