@@ -70,6 +70,7 @@ BASE = {
     "curves match": ["curves", "match", "examples/curves/figure-eight.csv", "--atlas", "ATLAS.h5", "--candidates", "2",
                      "--results", "1"],
     "drum": ["drum", "knowledge/mechanisms/tyre-drum-fig5-1.json"],
+    "studio": ["studio", "--home", "DIR", "--db", "DB"],        # binds its socket; the serving loop is not run
 }
 
 HOSTILE = ["", " ", "nan", "inf", "-1", "0", "1e309", "99999999999999999999", "🙂 ∑", "/", "/nonexistent/x.json",
@@ -151,6 +152,7 @@ def scratch(tmp_path, monkeypatch):
     monkeypatch.setenv("DOMES_KNOWLEDGE", str(tmp_path / "knowledge"))
     monkeypatch.setenv("DOMES_HOME", str(tmp_path / "home"))
     monkeypatch.setattr("sys.stdin", io.StringIO(""))
+    monkeypatch.setattr("uvicorn.Server.run", lambda self, sockets=None: None)
     return tmp_path
 
 

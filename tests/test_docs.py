@@ -6,7 +6,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCS = ["README.md", "docs/chains.md", "docs/regeneration.md", "docs/dynamics.md", "docs/cams.md", "docs/catalogue.md"]
+DOCS = ["README.md", "docs/chains.md", "docs/regeneration.md", "docs/dynamics.md", "docs/cams.md", "docs/catalogue.md", "docs/studio.md"]
 
 
 @pytest.mark.parametrize("name", DOCS)

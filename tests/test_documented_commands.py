@@ -34,6 +34,7 @@ SKIPPED = {
     "python benchmarks/": "the benchmarks: tests/test_benchmarks.py starts each one",
     "chromium ": "the screenshots of docs/images (a maintainer's step)",
     "domes cases replay --all": ".ci/run replays every shipped case with the installed wheel (exit 0 required)",
+    "domes studio": "a server that runs until stopped: tests/studio start it (the server fixture) and drive it in Chromium",
 }
 #: Commands that read answers on the terminal: here stdin is empty, so they end at the first question (exit 1).
 INTERACTIVE = ("domes design", "domes design --record my-session.json")

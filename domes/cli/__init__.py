@@ -38,6 +38,7 @@ SUBCOMMAND_MODULES = (
     "domes.cli.draw",
     "domes.cli.design",
     "domes.cli.drum",
+    "domes.cli.studio",
 )
 
 
