@@ -172,6 +172,10 @@ class Continuation:
 MAX_STEPS = 10_000_000
 #: A length input is refused beyond this many times the mechanism's size from its drawn value.
 FARTHEST = 100.0
+#: A limit bisected on whether a group solves is known to no better than this many units in the last place of
+#: the input.
+PREDICATE_ULPS = 256
+EPS = 2.0 ** -52
 
 
 def grid_size(start: float, stop: float, step: float) -> int:
@@ -212,4 +216,7 @@ def dead_point(cont: "Continuation", st: Stuck) -> DeadPoint:
     what = {"limit": "a limit (dead) position", "undetermined": "the pose is undetermined there",
             "discontinuity": "the pose would jump there (a discontinuity)"}[kind]
     msg = f"{f}; the input cannot pass {cont.fmt(q)} (last solved {cont.fmt(st.good)}): {what}"
-    return DeadPoint(q, abs(st.bad - st.good) / 2, kind, f.group.label, f.group.joints, msg)
+    # bisected on whether the group solves, a test made in floating point: known to no better than some hundred
+    # units in the last place of the input, however narrow the bracket
+    within = max(abs(st.bad - st.good) / 2, PREDICATE_ULPS * EPS * max(1.0, abs(q)))
+    return DeadPoint(q, within, kind, f.group.label, f.group.joints, msg)
