@@ -30,6 +30,7 @@ COMMANDS = {
 
 def register(sub: argparse._SubParsersAction) -> None:
     from domes.motion.coupler.atlas import SIZES
+    from domes.motion.coupler.freehand import CANDIDATES as DRAWN_CANDIDATES
     from domes.motion.coupler.match import CANDIDATES
 
     p = sub.add_parser(
@@ -88,9 +89,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     q.add_argument("--atlas", default="small", metavar="SIZE|FILE", help="atlas size (small, large) or file")
     q.add_argument("--open", action="store_true",
                    help="the path is an open stretch, not a closed curve (also: \"closed\": false in a JSON file)")
+    q.add_argument("--drawn", action="store_true",
+                   help="the path is drawn by hand (noisy, unevenly spaced, perhaps with corners): read as a sketch, "
+                   "closed or open by its ends (unless --open), every candidate fitted, each fit's error the distance "
+                   "of your points from its traced curve, and the tolerance four times the sketch's scatter unless "
+                   "--tol says (docs/curves.md)")
     q.add_argument("--results", type=int, default=3, help="fitting linkages to find (default 3)")
-    q.add_argument("--candidates", type=int, default=CANDIDATES,
-                   help=f"atlas candidates refined at most (default {CANDIDATES})")
+    q.add_argument("--candidates", type=int, default=None,
+                   help=f"atlas candidates refined at most (default {CANDIDATES}; with --drawn, where each one is "
+                   f"fitted, {DRAWN_CANDIDATES})")
     q.add_argument("--tol", type=float, default=None,
                    help="largest distance accepted, relative to the path's size (default 1e-6; open paths 1e-3)")
     q.add_argument("--format", choices=("text", "json", "html"), default="text")
@@ -282,7 +289,8 @@ def run_match(args) -> int:
     from domes.motion.coupler.atlas import SIZES, Atlas, OpenAtlas
     from domes.motion.coupler.curves import trace
     from domes.motion.coupler.fit import check_wanted
-    from domes.motion.coupler.match import match
+    from domes.motion.coupler.freehand import CANDIDATES as DRAWN_CANDIDATES
+    from domes.motion.coupler.match import CANDIDATES, match
     from domes.sketch.curves import Card, curves_html, joint_names, moving_svg
 
     for path in (args.output, args.save):
@@ -294,6 +302,16 @@ def run_match(args) -> int:
         check_wanted(wanted)                # before the atlas, which may have to be built first
     except InputError as exc:
         raise InputError(f"{args.file}: {exc}") from None
+    sketch = None
+    if args.drawn:
+        from domes.motion.coupler.freehand import drawn, match_drawn
+
+        said = False if args.open or closed is False else closed
+        try:
+            sketch = drawn(wanted, said)
+        except InputError as exc:
+            raise InputError(f"{args.file}: {exc}") from None
+        closed = sketch.closed
     kind = "open" if args.open or closed is False else "closed"
     if args.atlas in SIZES:
         table = default_atlas(args.atlas, progress, kind)
@@ -302,7 +320,12 @@ def run_match(args) -> int:
     if table.meta.get("kind", "closed") != kind:
         raise InputError(f"{args.atlas}: an atlas of {table.meta.get('kind')} paths, but the path is {kind}")
     atlas = OpenAtlas(table) if kind == "open" else Atlas(table)
-    result = match(wanted, atlas, args.results, args.candidates, args.tol, progress=progress)
+    if sketch is not None:
+        result = match_drawn(wanted, atlas, args.results, DRAWN_CANDIDATES if args.candidates is None else
+                             args.candidates, args.tol, said, progress=progress)
+    else:
+        result = match(wanted, atlas, args.results, CANDIDATES if args.candidates is None else args.candidates,
+                       args.tol, progress=progress)
     if args.save and result.fits and result.fits[0].mechanism is not None:
         save_mechanism(result.fits[0].mechanism, args.save)
     if args.format == "json":

@@ -96,7 +96,11 @@ def path_body(body: dict) -> dict:
     atlas = body.get("atlas", "auto")
     if not isinstance(atlas, str) or not atlas:
         raise InputError(f"atlas: one of {', '.join(ATLASES)}, or an atlas file in the data folder; got {atlas!r}")
-    return {"points": points, "closed": closed, "results": _count(body, "results", 5, MOST_RESULTS),
+    drawn = body.get("drawn", False)
+    if not isinstance(drawn, bool):
+        raise InputError(f"drawn: true (a path drawn by hand: noisy, matched within its own scatter) or false, got "
+                         f"{drawn!r}")
+    return {"points": points, "closed": closed, "drawn": drawn, "results": _count(body, "results", 5, MOST_RESULTS),
             "candidates": _count(body, "candidates", CANDIDATES, MOST_CANDIDATES), "tol": tol, "atlas": atlas}
 
 
@@ -191,12 +195,14 @@ def prepare_atlas(source: tuple) -> str:
         return load(source)[1]
 
 
-def match_path(points, closed: bool, results: int, candidates: int, tol, source: tuple) -> dict:
-    """``domes curves match`` on ``points``: the fitting four-bars, best first, as the panel shows them."""
+def match_path(points, closed: bool, drawn: bool, results: int, candidates: int, tol, source: tuple) -> dict:
+    """``domes curves match`` on ``points`` (``--drawn`` when ``drawn``): the fitting four-bars, best first, as the
+    panel shows them."""
     import time
 
     from domes.execution.threads import limited_threads
     from domes.motion.coupler.atlas import OpenAtlas
+    from domes.motion.coupler.freehand import match_drawn
     from domes.motion.coupler.match import match
 
     started = time.perf_counter()
@@ -206,7 +212,8 @@ def match_path(points, closed: bool, results: int, candidates: int, tol, source:
             raise InputError(f"atlas: {what} is of {'open' if closed else 'closed'} paths, but the path is "
                              f"{'closed' if closed else 'open'}")
         ready = time.perf_counter()
-        found = match(points, atlas, results, candidates, tol)
+        found = match_drawn(points, atlas, results, candidates, tol, closed) if drawn else \
+            match(points, atlas, results, candidates, tol)
         fits = sorted((_fit(f, k, found, points) for k, f in enumerate(found.fits)),
                       key=lambda f: (f["error"] is None, f["error"]["max"] if f["error"] else math.inf))
     for k, f in enumerate(fits, 1):                 # ranked by their distance from the points, as measured
@@ -216,7 +223,9 @@ def match_path(points, closed: bool, results: int, candidates: int, tol, source:
     return {"message": found.message, "size": found.size, "tol": found.tol, "tried": found.tried,
             "closed": closed, "points": [list(p) for p in points], "atlas": what,
             "atlas_seconds": ready - started, "lookup_ms": found.lookup_seconds * 1e3,
-            "refine_seconds": found.refine_seconds, "fits": fits}
+            "refine_seconds": found.refine_seconds, "fits": fits,
+            "sketch": {"noise": found.sketch.noise / found.size, "corners": list(found.sketch.corners),
+                       "read": found.sketch.said} if drawn else None}
 
 
 def _fit(f, k: int, found, points) -> dict:

@@ -10,7 +10,6 @@ import pytest
 from domes.errors import InputError
 from domes.io.atlas import load_atlas, save_atlas
 from domes.motion.coupler.atlas import (
-    SIZES,
     Atlas,
     AtlasSpec,
     OpenAtlas,
@@ -198,24 +197,6 @@ def _round_trip_sample(count):
         except InputError:
             continue
     return drawn
-
-
-@pytest.fixture(scope="module")
-def small_atlas(tmp_path_factory):
-    """The small atlas, built once in a test run: under ``pytest -n`` the first worker to need it writes it to the
-    folder the workers' temporary folders share, and the others read that file."""
-    import fcntl
-    import os
-
-    shared = tmp_path_factory.getbasetemp()
-    if os.environ.get("PYTEST_XDIST_WORKER"):
-        shared = shared.parent
-    path = shared / "fourbar-small.h5"
-    with open(shared / "fourbar-small.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if not path.is_file():
-            save_atlas(build(SIZES["small"]), path)
-    return Atlas(load_atlas(path))
 
 
 #: The round trip in two parts that ``pytest -n auto`` runs side by side, each allowed its share of the misses

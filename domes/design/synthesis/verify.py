@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from domes.motion.coupler.freehand import polyline_distances
 from domes.motion.planar.batch import batch
 
 #: Default tolerance (relative to the task's size) within which every re-evaluated error of a usable linkage lies.
@@ -136,17 +137,8 @@ def curve_distances(fb, points) -> tuple[float, ...]:
     local = np.concatenate([np.linspace(grid[k] - 2 * h, grid[k] + 2 * h, 401) for k in near])
     fine = batch(mech, inputs=local, outputs=["point:P"])
     xy = np.c_[fine.values["point:P.x"][0], fine.values["point:P.y"][0]].reshape(len(pts), 401, 2)
-    return tuple(min(_polyline_distance(xy[j], p, closed=False), _polyline_distance(curve, p))
+    return tuple(float(min(polyline_distances(xy[j], p[None], closed=False)[0], polyline_distances(curve, p[None])[0]))
                  for j, p in enumerate(pts))
-
-
-def _polyline_distance(poly: np.ndarray, p: np.ndarray, closed: bool = True) -> float:
-    """The distance from ``p`` to the polyline ``poly`` (segments with a NaN end left out; inf when none is left)."""
-    a, b = (poly, np.roll(poly, -1, axis=0)) if closed else (poly[:-1], poly[1:])
-    d = b - a
-    t = np.clip(np.einsum("ij,ij->i", p - a, d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
-    dist = np.linalg.norm(a + t[:, None] * d - p, axis=1)
-    return float(np.nanmin(dist)) if np.isfinite(dist).any() else math.inf
 
 
 def _outputs(claim: Claim) -> list[str]:

@@ -113,7 +113,7 @@ def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = 
             fits.append(f)
         if sum(f.success for f in fits) >= results:
             break
-    fits.sort(key=lambda f: (not f.success, f.after[0]))
+    fits.sort(key=lambda f: (not f.success, f.mechanism is None, f.after[0]))     # a fit never placed last
     kept, merged = _merge(fits, size)
     shown, count = 0, 0
     while shown < len(kept) and count < results:        # a fit merged into another counts as one of the results

@@ -68,8 +68,12 @@
     P.count = Studio.el("input", {type: "number", min: 9, max: 400, value: 48, id: "synthesis-count"});
     P.closed = Studio.el("input", {type: "checkbox", checked: true, id: "synthesis-closed"});
     P.results = Studio.el("input", {type: "number", min: 1, max: 20, value: 5, id: "synthesis-results"});
-    P.tol = Studio.el("input", {type: "number", min: 0, step: "any", value: 0.005, id: "synthesis-tol",
-                                title: "largest distance accepted, relative to the path's size (a sketch is drawn to about 0.5%)"});
+    P.drawn = Studio.el("input", {type: "checkbox", checked: true, id: "synthesis-drawn",
+                                  title: "a path drawn by hand: read as a sketch (its scatter, corners), every candidate fitted, "
+                                         + "the errors measured against your points"});
+    P.tol = Studio.el("input", {type: "number", min: 0, step: "any", placeholder: "auto", id: "synthesis-tol",
+                                title: "largest distance accepted, relative to the path's size (auto: four times a sketch's "
+                                       + "scatter when drawn by hand, else 1e-6 of the size)"});
     P.atlas = Studio.el("select", {id: "synthesis-atlas"},
       Studio.el("option", {value: "auto"}, "auto: the data folder's small atlas if built, else the quick one"),
       Studio.el("option", {value: "quick"}, "quick (in memory)"),
@@ -87,6 +91,7 @@
         Studio.el("div", {class: "synthesis-left"}, P.pad,
           Studio.el("div", {class: "synthesis-controls"},
             Studio.el("label", {}, "points ", P.count), Studio.el("label", {}, P.closed, " closed"),
+            Studio.el("label", {}, P.drawn, " drawn by hand"),
             Studio.el("label", {}, "results ", P.results), Studio.el("label", {}, "tolerance ", P.tol),
             Studio.el("label", {}, "atlas ", P.atlas)),
           Studio.el("div", {class: "synthesis-controls"}, P.match,
@@ -114,6 +119,7 @@
       var raw = state.path.raw;
       if (raw.length < 3) { state.path.raw = []; drawPath(); return; }
       setPoints(resample(raw, Math.max(9, Math.min(400, parseInt(P.count.value, 10) || 48)), P.closed.checked), false);
+      P.drawn.checked = true;
     }
     P.pad.addEventListener("pointerup", finish);
     P.pad.addEventListener("pointercancel", finish);
@@ -154,6 +160,7 @@
       else pts.push(v);
     });
     if (bad) { failed(P.status, new Error(bad)); return; }
+    P.drawn.checked = false;            // points typed or loaded: taken as exact unless "drawn by hand" is ticked
     setPoints(pts, true);
   }
   function drawPath() {
@@ -184,7 +191,8 @@
   function matchPath() {
     var points = state.path.points;
     if (points.length < 9) { failed(P.status, new Error("draw a path first (or use points): a four-bar needs at least 9 points")); return; }
-    var body = {points: points, closed: P.closed.checked, results: parseInt(P.results.value, 10) || 5, atlas: P.atlas.value};
+    var body = {points: points, closed: P.closed.checked, drawn: P.drawn.checked,
+                results: parseInt(P.results.value, 10) || 5, atlas: P.atlas.value};
     var tol = parseFloat(P.tol.value);
     if (tol > 0) body.tol = tol;
     var done = busy(P.status, "Looking the path up in the atlas and refining the nearest four-bars");
@@ -194,7 +202,9 @@
       done(); P.match.disabled = false;
       exposed.last = {request: body, answer: answer, error: null, pending: false};
       state.path.answer = answer; state.path.shown = 0;
-      P.status.textContent = answer.message + " — atlas: " + answer.atlas + ".";
+      P.status.textContent = (answer.sketch ? "Read as a sketch: " + answer.sketch.read + ", scatter "
+                              + (100 * answer.sketch.noise).toFixed(2) + "% of its size. " : "")
+                             + answer.message + " — atlas: " + answer.atlas + ".";
       showFits(answer); drawPath();
     }).catch(function (err) {
       done(); P.match.disabled = false;
