@@ -40,7 +40,8 @@ from domes.errors import InputError
 from domes.motion.coupler.atlas import Atlas, OpenAtlas
 from domes.motion.coupler.curves import trace
 from domes.motion.coupler.fit import Fit, check_wanted, fit
-from domes.results import Listing, Progress, Status, Ticker
+from domes.motion.coupler.match import Matching, _merge, _same
+from domes.results import Progress, Status, Ticker
 
 #: The ends of a sketch closer than this share of its size make it closed (unless the caller says).
 CLOSING = 0.05
@@ -229,34 +230,12 @@ def polyline_distances(poly: np.ndarray, points: np.ndarray, closed: bool = True
 
 
 @dataclass(frozen=True, eq=False)
-class DrawnMatching(Listing):
+class DrawnMatching(Matching):
     """The fits of a sketch, best first (``fits``; each one's ``after`` is the largest and RMS distance of the
-    user's points from its traced curve), the sketch as read, the candidates tried and the times taken."""
+    user's points from its traced curve), the sketch as read (``sketch``), the candidates tried and the times taken;
+    ``note`` says how the sketch was read."""
 
-    fits: tuple[Fit, ...]
-    sketch: Drawn
-    tried: int
-    lookup_seconds: float
-    refine_seconds: float
-    tol: float
-    merged: tuple[tuple[tuple[Fit, str], ...], ...] = ()
-    items_field = "fits"
-
-    @property
-    def size(self) -> float:
-        return self.sketch.size
-
-    @property
-    def note(self) -> str:
-        d = self.sketch
-        corners = f"{len(d.corners)} corner{'' if len(d.corners) == 1 else 's'}" if d.corners else "no corner"
-        return (f"a drawn path of {len(d.points)} points, {d.said}; {corners}; the points scatter "
-                f"{d.noise / d.size:.2%} of its size about a smooth curve; errors are the distances of your points "
-                "from each linkage's traced curve")
-
-    @property
-    def status(self) -> Status:
-        return Status.COMPLETE if any(f.success for f in self.fits) else Status.EMPTY if not self.fits else Status.STOPPED
+    sketch: Drawn | None = None
 
     @property
     def message(self) -> str:
@@ -266,6 +245,14 @@ class DrawnMatching(Listing):
         return (f"{self.status}: {good} of {self.tried} candidates fit within {self.tol:g} of the sketch's size "
                 f"{self.size:.4g} ({best}); look-up {self.lookup_seconds * 1e3:.1f} ms, refinement "
                 f"{self.refine_seconds:.2f} s; {self.note}")
+
+
+def _reading(d: Drawn) -> str:
+    """How a sketch was read, for the answer's message."""
+    corners = f"{len(d.corners)} corner{'' if len(d.corners) == 1 else 's'}" if d.corners else "no corner"
+    return (f"a drawn path of {len(d.points)} points, {d.said}; {corners}; the points scatter {d.noise / d.size:.2%} "
+            "of its size about a smooth curve; errors are the distances of your points from each linkage's traced "
+            "curve")
 
 
 def match_drawn(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = CANDIDATES,
@@ -278,8 +265,6 @@ def match_drawn(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: 
     must agree with the atlas). ``tol`` relative to the sketch's size (default: four times its scatter, at least
     :data:`FLOOR`).
     """
-    from domes.motion.coupler.match import _merge, _same
-
     sketch = drawn(points, closed)
     if sketch.closed != (not isinstance(atlas, OpenAtlas)):
         kind = "closed" if sketch.closed else "open"
@@ -316,8 +301,8 @@ def match_drawn(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: 
     while shown < len(kept) and count < results:
         count += 1 + len(merged[shown])
         shown += 1
-    return DrawnMatching(tuple(kept[:max(shown, 1)]), sketch, tried, t1 - t0, time.perf_counter() - t1, tol,
-                         tuple(tuple(m) for m in merged[:max(shown, 1)]))
+    return DrawnMatching(tuple(kept[:max(shown, 1)]), tried, t1 - t0, time.perf_counter() - t1, sketch.size, tol,
+                         _reading(sketch), tuple(tuple(m) for m in merged[:max(shown, 1)]), sketch)
 
 
 def _fit(sketch: Drawn, start, tol: float, evaluations: int, window, previous: Fit | None = None) -> Fit | None:
