@@ -70,7 +70,7 @@ class JobFolder:
         self._sweep()
 
     def _sweep(self) -> None:
-        """Remove the temporary files a killed run left half written (``.name.XXXX.tmp``, see
+        """Remove the temporary files a killed run left half written (``.name.<random>.tmp``, see
         :func:`~domes.io.files.write_atomic`): never read, they would only make the folder differ."""
         for folder in (self.path, self.path / "parts"):
             for tmp in folder.glob(".*.tmp"):
