@@ -15,6 +15,8 @@ import argparse
 import csv
 import json
 import math
+import os
+import select
 import sys
 
 from domes.errors import InputError
@@ -27,6 +29,26 @@ from domes.results import Progress, Ticker
 #: Without a terminal (a log, a pipe), progress is one line per this many seconds at most: a long run says it is
 #: alive, a short one says nothing.
 LOG_EVERY = 5.0
+
+
+def read_line(prompt: str = "") -> str:
+    """:func:`input` that sees a Ctrl-C at once on a terminal.
+
+    ``input`` blocks in C: a SIGINT that lands between the prompt and the blocking read is only noticed at the next
+    key. Here the wait returns to Python every quarter second, where a pending KeyboardInterrupt is raised. A
+    terminal in canonical mode hands over one line per read; anything else (a pipe, a file) goes to ``input``.
+    """
+    if not (sys.stdin.isatty() and sys.stdout.isatty()):
+        return input(prompt)
+    sys.stdout.write(prompt)
+    sys.stdout.flush()
+    fd = sys.stdin.fileno()
+    while not select.select([fd], [], [], 0.25)[0]:
+        pass
+    line = os.read(fd, 65536)
+    if not line:
+        raise EOFError
+    return line.decode(sys.stdin.encoding or "utf-8", errors="replace").rstrip("\r\n")
 
 
 def progress_printer(enabled: bool | None = None, every: float = 0.0) -> Progress | None:

@@ -11,7 +11,7 @@ import tempfile
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from domes.cli.common import DB_HELP, parallel_options, progress_printer
+from domes.cli.common import DB_HELP, parallel_options, progress_printer, read_line
 from domes.errors import DomesError, InputError
 from domes.execution import check_workers
 from domes.io.files import check_target
@@ -114,7 +114,7 @@ def run_design(args: argparse.Namespace) -> int:
         knobs = DesignKnobs(args.method, args.seeds, args.workers, args.scheduler, args.time_budget,
                             None if args.no_report else args.report)
         status = _design(args, Dialogue(url, answers, interactive=interactive or bool(args.resume), vary=not args.no_vary,
-                                        progress=progress_printer(), knobs=knobs))
+                                        progress=progress_printer(), knobs=knobs, read=read_line))
         if args.dry_run:
             print("Dry run: the case base is unchanged.")
         return status
