@@ -5,6 +5,11 @@ graph6, the slices of the level under way as they come. A run stopped
 after some slices (by an error in the store, or by SIGKILL from outside)
 and run again with the same folder must leave the files an uninterrupted
 run leaves, byte for byte.
+
+The runs in this process build the 11-link DOF-2 atlas (a second) with levels of 16 parents and more cut into
+slices (the product cuts levels of PARALLEL_PARENTS = 256 and more, first met at 12 links): what is written,
+dropped and loaded again does not depend on the size. The killed command runs the 12-link atlas, sliced as it
+ships.
 """
 
 import os
@@ -19,9 +24,19 @@ import pytest
 from domes.errors import InputError
 from domes.io.jobs import JobFolder
 from domes.typesynth.atlas import ChainGenerator, chains
+from tests.typesynth.reference import chain_atlas
 
 DOMES = [sys.executable, "-m", "domes"]
 SPEC = {"kind": "chain atlas", "isomorphism": "nauty"}
+#: The atlas the runs in this process build, and its levels' name.
+LINKS, DOF = 11, 2
+NAME = f"chains-n{LINKS}-F{DOF}"
+
+
+@pytest.fixture
+def sliced(monkeypatch):
+    """Levels of 16 parents or more are cut into slices (each level of the 11-link DOF-2 atlas, k = 0 to 3)."""
+    monkeypatch.setattr("domes.typesynth.atlas.PARALLEL_PARENTS", 16)
 
 
 class Stop(Exception):
@@ -47,28 +62,36 @@ def files(folder: Path) -> dict[str, bytes]:
     return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*")) if p.is_file()}
 
 
-def test_checkpointed_atlas_is_the_plain_one_and_is_loaded_again(tmp_path, monkeypatch):
-    job = JobFolder(tmp_path / "job", SPEC)
-    atlas = ChainGenerator(checkpoints=job).chains(12, 1)
-    assert atlas == ChainGenerator().chains(12, 1)
+def test_checkpointed_atlas_is_the_plain_one_and_is_loaded_again(tmp_path, monkeypatch, sliced):
+    saved = []
+
+    class Saving(JobFolder):
+        def save(self, name, data):
+            saved.append(name)
+            super().save(name, data)
+
+    job = Saving(tmp_path / "job", SPEC)
+    atlas = ChainGenerator(checkpoints=job).chains(LINKS, DOF)
+    assert atlas == ChainGenerator().chains(LINKS, DOF)
     written = files(tmp_path / "job")
-    assert [line for line in written["chains-n12-F1.g6"].decode().split()] == [c.graph6 for c in chains(12, 1)]
+    assert [line for line in written[f"{NAME}.g6"].decode().split()] == [c.graph6 for c in chains(LINKS, DOF)]
+    assert any(name.startswith(f"parts/{NAME}-k") and name.endswith(".ears") for name in saved)   # it was sliced
     assert not [name for name in written if name.startswith("parts/")]       # slices dropped once a level is done
-    ten = ChainGenerator().chains(10, 1)
+    nine = ChainGenerator().chains(9, 2)                                      # the level of its k=2 ears' parents
     monkeypatch.setattr("domes.typesynth.atlas.ears", None)                    # nothing may be computed again
     again = ChainGenerator(checkpoints=JobFolder(tmp_path / "job", SPEC))
-    assert again.chains(12, 1) == atlas and again.chains(10, 1) == ten
+    assert again.chains(LINKS, DOF) == atlas and again.chains(9, 2) == nine
     with pytest.raises(TypeError):                                            # ... but a size not on disk is
         again.chains(13, 2)
 
 
-def test_interrupted_run_resumes_to_the_same_files(tmp_path):
-    ChainGenerator(checkpoints=JobFolder(tmp_path / "whole", SPEC)).chains(12, 1)
+def test_interrupted_run_resumes_to_the_same_files(tmp_path, sliced):
+    ChainGenerator(checkpoints=JobFolder(tmp_path / "whole", SPEC)).chains(LINKS, DOF)
     with pytest.raises(Stop):
-        ChainGenerator(checkpoints=FailingFolder(tmp_path / "resumed", SPEC, "chains-n12-F1-k1", 1)).chains(12, 1)
+        ChainGenerator(checkpoints=FailingFolder(tmp_path / "resumed", SPEC, f"{NAME}-k1", 1)).chains(LINKS, DOF)
     partial = files(tmp_path / "resumed")
     kept = sorted(name for name in partial if name.endswith(".ears"))        # earlier levels' slices are gone
-    assert len(kept) >= 2 and "chains-n12-F1.g6" not in partial              # slices of k=0 and one of k=1
+    assert len(kept) >= 2 and f"{NAME}.g6" not in partial                   # slices of k=0 and one of k=1
     seen = []
 
     class Watching(JobFolder):
@@ -78,7 +101,7 @@ def test_interrupted_run_resumes_to_the_same_files(tmp_path):
                 seen.append(name)
             return data
 
-    ChainGenerator(checkpoints=Watching(tmp_path / "resumed", SPEC)).chains(12, 1)
+    ChainGenerator(checkpoints=Watching(tmp_path / "resumed", SPEC)).chains(LINKS, DOF)
     assert sorted(seen) == kept                                              # the slices on disk were not redone
     assert files(tmp_path / "resumed") == files(tmp_path / "whole")
 
@@ -141,24 +164,26 @@ def test_a_job_folder_under_a_file_says_the_parent_is_a_file(tmp_path):
 
 
 @pytest.mark.slow
-def test_killed_command_resumes_to_the_same_files(tmp_path):
+def test_killed_command_resumes_to_the_same_files(tmp_path, tmp_path_factory):
     # A real kill: SIGKILL to `domes chains --out` on two workers once the first slices are on disk; rerun in
-    # this process (other workers: the slices an earlier run planned are kept).
-    args = [*DOMES, "chains", "--links", "13", "--dof", "2", "--no-progress"]
+    # this process (other workers: the slices an earlier run planned are kept). The 12-link atlas is the smallest
+    # the command cuts into slices (levels of 1,962 and 753 parents).
+    args = [*DOMES, "chains", "--links", "12", "--dof", "1", "--no-progress"]
     whole = subprocess.run([*args, "--out", str(tmp_path / "whole")], check=True, capture_output=True, text=True)
     killed = subprocess.Popen([*args, "--out", str(tmp_path / "killed"), "--workers", "2"],
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
     parts = tmp_path / "killed" / "parts"
     deadline = time.monotonic() + 120
-    while not (parts.is_dir() and any(parts.glob("chains-n13-F2-*.ears"))):
+    while not (parts.is_dir() and any(parts.glob("chains-n12-F1-*.ears"))):
         assert killed.poll() is None and time.monotonic() < deadline, "the run ended before a slice was written"
         time.sleep(0.02)
     os.killpg(killed.pid, signal.SIGKILL)
     killed.wait()
-    assert not (tmp_path / "killed" / "chains-n13-F2.g6").exists()
+    assert not (tmp_path / "killed" / "chains-n12-F1.g6").exists()
     out = subprocess.run([*args, "--out", str(tmp_path / "killed")], check=True, capture_output=True, text=True)
-    # the count of README's table (geng's too: tests/typesynth/test_pebble.py), not made a fourth time here
-    assert whole.stdout.startswith("27496 chains of 13 links, DOF 2: ") and out.stdout.startswith("27496 chains ")
+    # the count of the atlas built in one process (checked against geng in tests/typesynth/test_pebble.py)
+    count = len(chain_atlas(tmp_path_factory, 12, 1))
+    assert whole.stdout.startswith(f"{count} chains of 12 links, DOF 1: ") and out.stdout.startswith(f"{count} chains ")
     assert files(tmp_path / "killed") == files(tmp_path / "whole")
 
 
@@ -170,39 +195,39 @@ class Payload:
 
 
 def _interrupted(folder: Path) -> list[str]:
-    """A folder of the 12-link atlas stopped after two slices of its last level: the slices' names."""
+    """A folder of the 11-link atlas stopped after one slice of its level k=1: the slices' names."""
     with pytest.raises(Stop):
-        ChainGenerator(checkpoints=FailingFolder(folder, SPEC, "chains-n12-F1-k1", 1)).chains(12, 1)
+        ChainGenerator(checkpoints=FailingFolder(folder, SPEC, f"{NAME}-k1", 1)).chains(LINKS, DOF)
     return sorted(str(p.relative_to(folder)) for p in (folder / "parts").glob("*.ears"))
 
 
-def test_a_planted_pickle_in_a_job_folder_runs_nothing_and_is_named(tmp_path, monkeypatch):
+def test_a_planted_pickle_in_a_job_folder_runs_nothing_and_is_named(tmp_path, monkeypatch, sliced):
     # issue 31, item 1: resuming loaded slice files with pickle.loads, so a planted payload ran.
     import pickle
 
     mark = tmp_path / "payload-ran"
     monkeypatch.setenv("DOMES_TEST_MARK", str(mark))
     whole = tmp_path / "whole"
-    ChainGenerator(checkpoints=JobFolder(whole, SPEC)).chains(12, 1)
+    ChainGenerator(checkpoints=JobFolder(whole, SPEC)).chains(LINKS, DOF)
     folder = tmp_path / "job"
     slices = _interrupted(folder)
     planted = folder / slices[0]
     planted.write_bytes(pickle.dumps(Payload()))                     # a damaged slice, listed with another checksum
-    foreign = folder / "parts" / "chains-n12-F1-k1-0-1.ears"        # and one no run of this job wrote
+    foreign = folder / "parts" / f"{NAME}-k1-0-1.ears"              # and one no run of this job wrote
     foreign.write_bytes(pickle.dumps(Payload()))
     said = []
-    again = ChainGenerator(checkpoints=JobFolder(folder, SPEC, say=said.append)).chains(12, 1)
+    again = ChainGenerator(checkpoints=JobFolder(folder, SPEC, say=said.append)).chains(LINKS, DOF)
     assert not mark.exists()                                         # nothing ran
-    assert again == ChainGenerator().chains(12, 1)
+    assert again == ChainGenerator().chains(LINKS, DOF)
     assert any(str(planted) in s and "is damaged" in s for s in said), said
-    assert files(folder)["chains-n12-F1.g6"] == files(whole)["chains-n12-F1.g6"]
+    assert files(folder)[f"{NAME}.g6"] == files(whole)[f"{NAME}.g6"]
     # listed with its own checksum (a folder copied from elsewhere, job.json and all): read as data, refused
     folder2 = tmp_path / "job2"
     slices = _interrupted(folder2)
     job = JobFolder(folder2, SPEC)
     job.save(slices[0], pickle.dumps(Payload()))
     said.clear()
-    assert ChainGenerator(checkpoints=JobFolder(folder2, SPEC, say=said.append)).chains(12, 1) == again
+    assert ChainGenerator(checkpoints=JobFolder(folder2, SPEC, say=said.append)).chains(LINKS, DOF) == again
     assert not mark.exists() and any("is not a slice file" in s for s in said), said
 
 

@@ -61,3 +61,20 @@ def geng_chains(n, joints, include_fractionated):
             continue
         result.append(g)
     return result
+
+
+def chain_atlas_file(tmp_path_factory, links: int, dof: int):
+    """The atlas ``chains(links, dof)`` as graph6, one chain a line, built once in a test run for every test (and
+    every ``pytest -n`` worker) that reads it (tests/shared.py)."""
+    from domes.typesynth.atlas import chains
+    from tests.shared import shared_file
+
+    def write(path):
+        path.write_text("".join(c.graph6 + "\n" for c in chains(links, dof)))
+
+    return shared_file(tmp_path_factory, f"chains-n{links}-F{dof}.g6", write)
+
+
+def chain_atlas(tmp_path_factory, links: int, dof: int) -> list[str]:
+    """The graph6 lines of :func:`chain_atlas_file`."""
+    return chain_atlas_file(tmp_path_factory, links, dof).read_text().split()
