@@ -1,8 +1,9 @@
 """Parallel runs on Dask give the in-process results, byte for byte (issue 17).
 
 A two-worker LocalCluster (worker processes on this machine) builds the 10-
-and 12-bar atlases, regenerates the 8-link motorcycle scene and a small
-coupler-curve atlas; each is compared with the in-process run. The command
+bar and the 11-link DOF-2 atlases, regenerates the 8-link motorcycle scene,
+dimensions candidates of a scene and builds a small coupler-curve atlas; each
+is compared with the in-process run. The command
 line takes --workers and --scheduler (or DOMES_SCHEDULER) and prints the
 same.
 """
@@ -34,10 +35,17 @@ def cluster():
         yield run
 
 
-@pytest.mark.parametrize("links", [10, 12])
-def test_chain_atlas_is_the_same_on_two_workers(cluster, links):
-    here = chains(links, 1)
-    there = chains(links, 1, executor=cluster)
+@pytest.mark.parametrize("links, dof", [(10, 1), (11, 2)])
+def test_chain_atlas_is_the_same_on_two_workers(cluster, monkeypatch, links, dof):
+    # Levels of 16 parents and more go to the workers (the product sends those of 256 and more, first met at 12
+    # links): each level of these two atlases' ears is cut into slices, as the 12-link atlas's large ones are.
+    monkeypatch.setattr("domes.typesynth.atlas.PARALLEL_PARENTS", 16)
+    sent = []
+    run = cluster._run
+    monkeypatch.setattr(cluster, "_run", lambda fn, items, progress: sent.append(fn) or run(fn, items, progress))
+    here = chains(links, dof)
+    there = chains(links, dof, executor=cluster)
+    assert sent                                                      # the workers built part of it
     assert there.chains == here.chains
     assert [c.graph6 for c in there] == [c.graph6 for c in here]
 
@@ -141,14 +149,19 @@ def test_seeded_monte_carlo_is_the_same_on_two_workers(cluster):
 
 
 def test_scene_candidates_are_dimensioned_the_same_on_two_workers(cluster):
-    # Batch verification of a scene's candidates: the rising-rate suspension task (issue 13) over the six
-    # candidates of the motorcycle scene, each candidate a task with its own child of the seed.
+    # Batch verification of a scene's candidates: the rising-rate suspension task (issue 13) over three of the six
+    # candidates of the motorcycle scene (more tasks than workers), each candidate a task with its own child of the
+    # seed.
+    import dataclasses
+
     from domes.design.synthesis import synthesize
     from domes.io.tasks import load_task
 
     task = load_task(ROOT / "examples/synthesis/rising-rate.json")
-    here = synthesize(task, "fast", seeds=2)
-    there = synthesize(task, "fast", seeds=2, executor=cluster)
+    task = dataclasses.replace(task, candidates=tuple(c for c in task.candidates if c[0] in (1, 4, 6)))
+    assert len(task.candidates) == 3
+    here = synthesize(task, "fast", seeds=1)
+    there = synthesize(task, "fast", seeds=1, executor=cluster)
     assert len(here.solutions) == len(there.solutions) > 0
     assert [(s.candidate, s.error, s.mechanism.to_dict()) for s in here.solutions] == \
         [(s.candidate, s.error, s.mechanism.to_dict()) for s in there.solutions]
