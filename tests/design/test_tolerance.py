@@ -112,6 +112,30 @@ def test_bad_input_is_named():
 
 
 def run_cli(*args):
+    """``domes tolerance ARGS`` through the command line's entry point in this process (no interpreter to start
+    each time): its exit status, its output and what it wrote to stderr, warnings included as a terminal shows
+    them."""
+    import contextlib
+    import io
+    import warnings
+    from types import SimpleNamespace
+
+    from domes.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with warnings.catch_warnings(record=True) as caught, contextlib.redirect_stdout(out), \
+            contextlib.redirect_stderr(err):
+        warnings.simplefilter("always")
+        try:
+            code = main(["tolerance", *args])
+        except SystemExit as exc:                   # argparse's refusals
+            code = 0 if exc.code is None else exc.code
+    shown = "".join(warnings.formatwarning(w.message, w.category, w.filename, w.lineno) for w in caught)
+    return SimpleNamespace(returncode=code, stdout=out.getvalue(), stderr=err.getvalue() + shown)
+
+
+def run_process(*args):
+    """``domes tolerance ARGS`` as a process of its own."""
     import subprocess
     import sys
 
@@ -125,7 +149,7 @@ def test_command_line_json_is_the_same_on_two_workers_and_says_where_estimates_p
     # not need M, agrees at every scale: tests/design/test_tolerance_edges.py)
     args = ["examples/mechanisms/slider-crank.json", "--output", "point:M", "--sweep", "0:360:30", "--relative",
             "1e-4", "--samples", "40000", "--seed", "5", "--scan", "--allocate", "0.001", "--format", "json"]
-    here, there = run_cli(*args), run_cli(*args, "--workers", "2")
+    here, there = run_cli(*args), run_process(*args, "--workers", "2")      # the pool started by the command
     assert here.returncode == 0 and there.returncode == 0, here.stderr + there.stderr
     assert here.stdout == there.stdout
     doc = json.loads(here.stdout)

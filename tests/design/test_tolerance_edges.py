@@ -11,8 +11,6 @@ failures must be the samples the closed forms cannot place, its σ theirs.
 
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -29,6 +27,7 @@ from domes.design.tolerance import (
     sensitivity,
 )
 from domes.io.mechanisms import load_mechanism
+from tests.design.test_tolerance import run_cli
 
 ANGLES = np.radians(np.arange(0.0, 360.0, 30.0))
 LARGE = 0.1                      # 1000 times the documented 1e-4 of each length
@@ -235,9 +234,8 @@ def test_a_singular_input_is_named_and_first_order_is_not_called_enough():
     assert first.notes[0] == first.notes[6] == "singular" and np.all(first.condition[[0, 6]] > 1e7)
     assert np.isnan(first.std[0, 0]) and not first.valid[[0, 6]].any()
     assert "first order is not valid at input 0, 180 deg: the linkage is at a dead point (singular)" in first.message
-    out = subprocess.run([sys.executable, "-m", "domes", "tolerance", "examples/mechanisms/parallelogram.json",
-                          "--output", "angle:rocker", "--relative", "1e-4", "--sweep", "0:360:30", "--samples",
-                          "20000"], capture_output=True, text=True)
+    out = run_cli("examples/mechanisms/parallelogram.json", "--output", "angle:rocker", "--relative", "1e-4",
+                  "--sweep", "0:360:30", "--samples", "20000")
     assert out.returncode == 0, out.stderr
     assert "nan" not in out.stdout and "enough" not in out.stdout
     rows = [line for line in out.stdout.splitlines() if not line.startswith("#")]
@@ -278,9 +276,8 @@ def test_the_scan_parts_only_where_it_should():
 
 
 def test_command_line_names_the_failures_and_the_trust():
-    out = subprocess.run([sys.executable, "-m", "domes", "tolerance", "examples/mechanisms/slider-crank.json",
-                          "--output", "point:M", "--relative", "0.1", "--sweep", "0:360:30", "--samples", "20000",
-                          "--spec", "0.2", "--format", "json"], capture_output=True, text=True)
+    out = run_cli("examples/mechanisms/slider-crank.json", "--output", "point:M", "--relative", "0.1", "--sweep",
+                  "0:360:30", "--samples", "20000", "--spec", "0.2", "--format", "json")
     assert out.returncode == 0, out.stderr
     doc = json.loads(out.stdout)
     m = doc["monte_carlo"]
@@ -288,8 +285,7 @@ def test_command_line_names_the_failures_and_the_trust():
     assert not m["trusted"] and not m["agree"] and m["verdict"].startswith("no recommendation: Monte Carlo cannot say")
     assert not doc["first_order_valid"] and "a rigid link cannot be made" in doc["first_order_not_valid"]
     assert all(r["first_order_note"] == "unmade" for r in doc["inputs"])
-    bad = subprocess.run([sys.executable, "-m", "domes", "tolerance", "examples/mechanisms/slider-crank.json",
-                          "--output", "point:M", "--relative", "1e-4", "--spec", "-1"], capture_output=True, text=True)
+    bad = run_cli("examples/mechanisms/slider-crank.json", "--output", "point:M", "--relative", "1e-4", "--spec", "-1")
     assert bad.returncode == 2 and "--spec must be a positive number" in bad.stderr
 
 
