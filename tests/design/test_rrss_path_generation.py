@@ -10,6 +10,7 @@ import pytest
 from domes.design.synthesis import rrss
 from domes.design.synthesis.sphere import rot
 from domes.errors import InputError
+from tests.sampling import allowed_misses, cases
 
 KEYS = ("u0x", "u0y", "u1x", "u1y", "a1x", "b0x", "b0y", "b0z")
 #: Table 2-3's free choices given from the planted RRSS: ``9 − n`` of the chain's, ``7 − n`` of the S-S link's
@@ -156,10 +157,12 @@ def test_bad_method():
 def test_planted_five_points():
     """Issue acceptance (seed 002 §2-3, Table 2-3 at n = 5: 6 givens): 50 random planted RRSS, five points of
     each one's own motion, the free choices from it; the planted RRSS is among the solutions in ≥ 95 % of cases
-    and the spatial solver takes its coupler point through every point to 1e-8 of the size."""
-    found, methods = planted_rate(5, 50, seed=5)
+    and the spatial solver takes its coupler point through every point to 1e-8 of the size. (The first of the 50
+    by default, the same share allowed to miss; all with DOMES_FULL_TESTS=1: tests/sampling.py.)"""
+    count = cases(50)
+    found, methods = planted_rate(5, count, seed=5)
     assert methods == {"conic"}
-    assert found >= 48
+    assert found >= count - allowed_misses(count, 0.04)          # 48 of 50
 
 
 def test_planted_four_points_by_the_conic():
