@@ -14,6 +14,27 @@ from domes.cli import main
 ROOT = Path(__file__).resolve().parents[2]
 
 
+@pytest.fixture(scope="module")
+def made():
+    return {}
+
+
+@pytest.fixture
+def forecasts(monkeypatch, made):
+    """``forecast`` made once a size in this module (each builds the atlases up to 12 links: seconds)."""
+    from domes.typesynth import atlas
+
+    measured = atlas.forecast
+
+    def once(links, dof, include_fractionated=False):
+        key = (links, dof, include_fractionated)
+        if key not in made:
+            made[key] = measured(links, dof, include_fractionated)
+        return made[key]
+
+    monkeypatch.setattr(atlas, "forecast", once)
+
+
 def run(capsys, *argv):
     status = main(list(argv))
     out, err = capsys.readouterr()
@@ -132,7 +153,7 @@ def test_an_interrupt_inside_nauty_is_an_interrupt():
 
 
 @pytest.mark.parametrize("answer, built", [("n", False), ("yes", True)])
-def test_large_atlas_confirmation_on_a_terminal(monkeypatch, answer, built):
+def test_large_atlas_confirmation_on_a_terminal(monkeypatch, forecasts, answer, built):
     from domes.cli import chains as cli
     from domes.errors import DomesError
 
@@ -145,18 +166,21 @@ def test_large_atlas_confirmation_on_a_terminal(monkeypatch, answer, built):
             cli._confirm_large(14, 1, False, yes=False)
 
 
-def test_forecast_is_near_the_built_atlases():
+def test_forecast_is_near_the_built_atlases(tmp_path_factory):
     # The forecast extrapolates from the three next smaller atlases; checked against the atlases themselves where
-    # those have six links or more, as they have for the large atlases it is made for (1.3x at most here).
-    from domes.typesynth.atlas import chains, forecast
+    # those have six links or more, as they have for the large atlases it is made for (1.3x at most here). The
+    # atlases are built once in a run for the tests that read them (reference.chain_atlas_file).
+    from reference import chain_atlas
+
+    from domes.typesynth.atlas import forecast
 
     for links, dof in [(12, 1), (13, 2)]:
         f = forecast(links, dof)
-        assert 1 / 1.3 < f.count / len(chains(links, dof)) < 1.3, (links, dof, f)
+        assert 1 / 1.3 < f.count / len(chain_atlas(tmp_path_factory, links, dof)) < 1.3, (links, dof, f)
         assert f.seconds > 0 and f.memory > 0 and f.seconds_on(4) < f.seconds_on(2) < f.seconds
 
 
-def test_large_atlas_says_before_it_starts_when_it_will_not_fit(monkeypatch):
+def test_large_atlas_says_before_it_starts_when_it_will_not_fit(monkeypatch, forecasts):
     from domes.cli import chains as cli
     from domes.errors import DomesError
 
