@@ -79,16 +79,24 @@ def silent_scheduler():
         connection.close()
 
 
-@pytest.mark.parametrize("how", ["--scheduler", "DOMES_SCHEDULER"])
-def test_a_silent_scheduler_is_named(silent_scheduler, how):
-    if how == "--scheduler":
-        proc = domes(TOLERANCE + ["--scheduler", silent_scheduler])
-        command = "tolerance"
-    else:
-        proc = domes(["chains", "--links", "8", "--dof", "1", "--count"], env={"DOMES_SCHEDULER": silent_scheduler})
-        command = "chains"
-    assert_clear_error(proc, command, f"cannot reach the Dask scheduler at '{silent_scheduler}' .*: it accepts "
-                                      "connections but says nothing within 10 s")
+def test_a_silent_scheduler_is_named(silent_scheduler):
+    # --scheduler and DOMES_SCHEDULER, the two runs side by side (each waits 10 s for an answer, idle)
+    runs = {"tolerance": (TOLERANCE + ["--scheduler", silent_scheduler], {}),
+            "chains": (["chains", "--links", "8", "--dof", "1", "--count"], {"DOMES_SCHEDULER": silent_scheduler})}
+    started = {command: subprocess.Popen(DOMES + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                         cwd=ROOT, env={**os.environ, **env})
+               for command, (args, env) in runs.items()}
+    try:
+        for command, run in started.items():
+            out, err = run.communicate(timeout=DEADLINE)
+            proc = subprocess.CompletedProcess(run.args, run.returncode, out, err)
+            assert_clear_error(proc, command, f"cannot reach the Dask scheduler at '{silent_scheduler}' .*: it "
+                                              "accepts connections but says nothing within 10 s")
+    finally:
+        for run in started.values():
+            if run.poll() is None:
+                run.kill()
+                run.wait()
 
 
 def _workers_of(process) -> list:
@@ -151,16 +159,17 @@ def test_workers_killed_every_half_second(tmp_path):
                                               r"\d+ of 50 tasks done\. Run the command again")
 
 
-def test_workers_killed_once_the_run_goes_on(tmp_path):
+def test_workers_killed_once_the_run_goes_on(tmp_path, tmp_path_factory):
     # Both workers die while the 12-link atlas's first large level is half done: the data the slices share died
-    # with them, and is sent again to the new workers; the atlas is the one built in one process.
-    from domes.typesynth.atlas import chains
+    # with them, and is sent again to the new workers; the atlas is the one built in one process (built once in a
+    # run for the tests that read it: tests/typesynth/reference.py).
+    from tests.typesynth.reference import chain_atlas
 
     proc, kills = run_killing(["chains", "--links", "12", "--dof", "1", "--format", "graph6", "--workers", "2"],
                               tmp_path, every=None)
     assert kills == 2
     assert proc.returncode == 0 and "Traceback" not in proc.stderr, proc.stderr[-3000:]
-    assert proc.stdout.split() == [c.graph6 for c in chains(12, 1)]
+    assert proc.stdout.split() == chain_atlas(tmp_path_factory, 12, 1)
 
 
 BOMBS = ["0*9**9**9", "2**2**2**2**2", "(9**9)**(9**9)"]
