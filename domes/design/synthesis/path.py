@@ -147,9 +147,10 @@ def five_points(points, a0, b0, grid: int = GRID, method: str = "exact", seeds: 
     size = float(np.ptp(np.asarray(P), axis=0).max())
     if method == "fast":
         found: list[PathSolution] = []
+        at = _Scalar(P, a0, b0, (1, 2))
         for k, guess in enumerate(np.random.default_rng(seed).uniform(-math.pi, math.pi, (seeds, 2))):
             clock.tick(lambda: f"path points: start {k + 1} of {seeds}, {len(found)} solution(s)")
-            sol = _polish(P, a0, b0, guess, size)
+            sol = _polish(P, a0, b0, guess, size, at=at)
             if sol is not None and not any(math.dist(sol.a1, f.a1) + math.dist(sol.b1, f.b1) <= 1e-7 * size
                                            for f in found):
                 found.append(sol)
@@ -163,11 +164,12 @@ def five_points(points, a0, b0, grid: int = GRID, method: str = "exact", seeds: 
         _, _, (g4, g5) = _conditions(P, a0, b0, T2, T3, pair)
         cells = _sign_cells(g4) & _sign_cells(g5) & _small(g4) & _small(g5)
         todo = list(zip(*np.nonzero(cells)))
+        at = _Scalar(P, a0, b0, pair)
         for c, (i, k) in enumerate(todo):
             clock.tick(lambda: f"path points: grid {PAIRS.index(pair) + 1} of {len(PAIRS)}, cell {c + 1} of "
                        f"{len(todo)}, {len(found)} solution(s)")
             guess = np.array([0.5 * (t[i] + t[i + 1]), 0.5 * (t[k] + t[k + 1])])
-            sol = _polish(P, a0, b0, guess, size, pair)
+            sol = _polish(P, a0, b0, guess, size, pair, at)
             if sol is not None and not any(math.dist(sol.a1, f.a1) + math.dist(sol.b1, f.b1) <= 1e-7 * size
                                            for f in found):
                 found.append(sol)
@@ -190,17 +192,96 @@ def _sign_cells(g):
     return any_pos & any_neg
 
 
-def _polish(P, a0, b0, guess, size, pair=(1, 2)):
+def _div(a: float, b: float) -> float:
+    """``a / b`` as numpy divides (±inf or NaN where ``b`` is zero)."""
+    if b:
+        return a / b
+    with np.errstate(all="ignore"):
+        return float(np.divide(a, b))
+
+
+class _Scalar:
+    """:func:`_conditions` and :func:`_meet` at one point ``(θ, θ')`` in Python floats, for the polish, which
+    evaluates them thousands of times: numpy's scalars cost ten times as much for the same numbers. The same
+    operations in the same order (the sines and cosines are numpy's, as on the grid); the parts that do not
+    depend on the rotations are worked out once."""
+
+    def __init__(self, P, a0, b0, pair):
+        self.P, self.a0, self.b0, self.pair = P, a0, b0, pair
+        self.others = [j for j in range(1, 5) if j not in pair]
+        # the lines of :func:`_line`: the rows at (c, s) = (0, 0), (1, 0) and (0, 1), for each point and pivot
+        self.rows = {(j, k): tuple(self.row(j, pivot, c, s) for c, s in ((0.0, 0.0), (1.0, 0.0), (0.0, 1.0)))
+                     for j in range(1, 5) for k, pivot in enumerate((a0, b0))}
+        p1x, p1y = P[0]
+        self.first = p1x, p1y, p1x * p1x + p1y * p1y
+        self.fixed = {(j, k): (*P[j], *pivot, P[j][0] - pivot[0], P[j][1] - pivot[1], P[j][0] * P[j][0] + P[j][1] * P[j][1])
+                      for j in pair for k, pivot in enumerate((a0, b0))}
+
+    def row(self, j, pivot, c, s):
+        """:func:`_rows`."""
+        p1x, p1y = self.P[0]
+        pjx, pjy = self.P[j]
+        gx, gy = pivot
+        nx = 2 * (c * (pjx - gx) + s * (pjy - gy) - p1x + gx)
+        ny = 2 * (-s * (pjx - gx) + c * (pjy - gy) - p1y + gy)
+        rp1x, rp1y = c * p1x - s * p1y, s * p1x + c * p1y
+        r = (2 * (gx * (pjx - rp1x) + gy * (pjy - rp1y)) - (pjx * pjx + pjy * pjy) - (p1x * p1x + p1y * p1y)
+             + 2 * (pjx * rp1x + pjy * rp1y))
+        return nx, ny, r
+
+    def pivot(self, pivot: int, c2, s2, c3, s3):
+        """:func:`_pivot` (the two rows of :meth:`row` written out, with the sums that do not depend on the rotation
+        taken from :attr:`fixed`)."""
+        p1x, p1y, p11 = self.first
+        j, k = self.pair
+        pjx, pjy, gx, gy, dx, dy, pjj = self.fixed[j, pivot]
+        n2x = 2 * (c2 * dx + s2 * dy - p1x + gx)
+        n2y = 2 * (-s2 * dx + c2 * dy - p1y + gy)
+        rp1x, rp1y = c2 * p1x - s2 * p1y, s2 * p1x + c2 * p1y
+        r2 = 2 * (gx * (pjx - rp1x) + gy * (pjy - rp1y)) - pjj - p11 + 2 * (pjx * rp1x + pjy * rp1y)
+        pjx, pjy, gx, gy, dx, dy, pjj = self.fixed[k, pivot]
+        n3x = 2 * (c3 * dx + s3 * dy - p1x + gx)
+        n3y = 2 * (-s3 * dx + c3 * dy - p1y + gy)
+        rp1x, rp1y = c3 * p1x - s3 * p1y, s3 * p1x + c3 * p1y
+        r3 = 2 * (gx * (pjx - rp1x) + gy * (pjy - rp1y)) - pjj - p11 + 2 * (pjx * rp1x + pjy * rp1y)
+        det = n2x * n3y - n2y * n3x
+        return _div(r2 * n3y - n2y * r3, det), _div(n2x * r3 - r2 * n3x, det)
+
+    def meet(self, j, a1, b1):
+        """:func:`_meet`."""
+        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = self.rows[j, 0]
+        (b00, b01, b02), (b10, b11, b12), (b20, b21, b22) = self.rows[j, 1]
+        qx, qy = a1
+        f0 = a00 * qx + a01 * qy - a02
+        aa, ab, ag = (a10 * qx + a11 * qy - a12) - f0, (a20 * qx + a21 * qy - a22) - f0, -f0
+        qx, qy = b1
+        f0 = b00 * qx + b01 * qy - b02
+        ba, bb, bg = (b10 * qx + b11 * qy - b12) - f0, (b20 * qx + b21 * qy - b22) - f0, -f0
+        det = aa * bb - ab * ba
+        c = _div(ag * bb - ab * bg, det)
+        s = _div(aa * bg - ag * ba, det)
+        return c, s, c * c + s * s - 1.0
+
+    def conditions(self, t2, t3):
+        """:func:`_conditions`."""
+        c2, s2, c3, s3 = float(np.cos(t2)), float(np.sin(t2)), float(np.cos(t3)), float(np.sin(t3))
+        a1 = self.pivot(0, c2, s2, c3, s3)
+        b1 = self.pivot(1, c2, s2, c3, s3)
+        j, k = self.others
+        return a1, b1, [self.meet(j, a1, b1)[2], self.meet(k, a1, b1)[2]]
+
+
+def _polish(P, a0, b0, guess, size, pair=(1, 2), at: _Scalar | None = None):
+    at = at or _Scalar(P, a0, b0, pair)
+
     def fn(x):
-        _, _, g = _conditions(P, a0, b0, x[0], x[1], pair)
-        return [float(g[0]), float(g[1])]
+        return at.conditions(x[0], x[1])[2]
 
     with np.errstate(all="ignore"):
         x, info, ok, _ = fsolve(fn, guess, full_output=True, xtol=1e-14)
     if not np.all(np.isfinite(info["fvec"])) or np.max(np.abs(info["fvec"])) > 1e-10:
         return None
-    a1, b1, _ = _conditions(P, a0, b0, x[0], x[1], pair)
-    a1, b1 = (float(a1[0]), float(a1[1])), (float(b1[0]), float(b1[1]))
+    a1, b1, _ = at.conditions(x[0], x[1])
     if not all(map(math.isfinite, a1 + b1)):
         return None
     rot = []
@@ -208,7 +289,7 @@ def _polish(P, a0, b0, guess, size, pair=(1, 2)):
         if j in pair:
             rot.append(float(x[pair.index(j)]))
         else:
-            c, s, _ = _meet(P, j, a0, b0, a1, b1)
+            c, s, _ = at.meet(j, a1, b1)
             rot.append(math.atan2(s, c))
     res = residuals(P, a0, b0, a1, b1, rot)
     if not res <= 1e-9 * max(size, 1.0):
