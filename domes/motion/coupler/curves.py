@@ -323,6 +323,6 @@ class _Tracer:
         pts = np.c_[out[f"{name}.x"], out[f"{name}.y"]]
         vel = np.c_[out[f"{name}.x'"], out[f"{name}.y'"]]
         extra = {o.target: np.c_[out[f"{o.name}.x"], out[f"{o.name}.y"]] for o in self.kin.outputs[1:]}
-        modes = np.array([[values.get(sign_key(g), np.full(xs.shape, self.kin.plans[g.index].sign))[i]
-                           for g in self.signed] for i in range(xs.size)]).reshape(xs.size, len(self.signed))
+        columns = [values.get(sign_key(g), np.full(xs.shape, self.kin.plans[g.index].sign)) for g in self.signed]
+        modes = np.stack(columns, axis=1) if columns else np.empty((xs.size, 0))
         return Circuit(xs, pts, vel, modes, tuple(limits), tuple(branch), values, extra)
