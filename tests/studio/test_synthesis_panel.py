@@ -16,7 +16,7 @@ import pytest
 
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.batch import batch
-from tests.shared import small_atlas_file
+from tests.shared import shared_file
 from tests.studio.test_editor import studio_server
 
 #: Example 2 of seed 002 §2-3: four positions, the circle points on the lines x = -1 and x = 0.
@@ -25,20 +25,23 @@ EXAMPLE_2 = [[1.0, 1.0, 0.0], [2.0, 0.5, 0.0], [3.0, 1.5, 45.0], [2.0, 2.0, 90.0
 
 @pytest.fixture(scope="module")
 def atlas(tmp_path_factory):
-    """The small atlas (and its open-path index) as ``domes curves match`` builds it: the files built once per test
-    run and shared by every test that needs them (tests/shared.py), and the closed one's table."""
-    from domes.io.atlas import load_atlas
+    """A small atlas (40 four-bars, coupler points every 1.0) and its open-path index, built once in a test run
+    (tests/shared.py): its table, and the files by the names ``domes curves match`` gives the small one's."""
+    from domes.io.atlas import load_atlas, save_atlas
+    from domes.motion.coupler.atlas import AtlasSpec, build, build_windows
 
-    path = small_atlas_file(tmp_path_factory)
-    small_atlas_file(tmp_path_factory, "open")
-    return load_atlas(path), path
+    spec = AtlasSpec("test", 40, 1.0)
+    closed = shared_file(tmp_path_factory, "fourbar-test40.h5", lambda path: save_atlas(build(spec), path))
+    windows = shared_file(tmp_path_factory, "fourbar-test40-open.h5",
+                          lambda path: save_atlas(build_windows(spec), path))
+    return load_atlas(closed), {"fourbar-small.h5": closed, "fourbar-small-open.h5": windows}
 
 
 def use_as_small(home, atlas) -> None:
     """Put the test atlas (and its open-path index) where ``domes curves match`` keeps the data folder's small one."""
     (home / "atlas").mkdir(exist_ok=True)
-    for name in ("fourbar-small.h5", "fourbar-small-open.h5"):
-        shutil.copyfile(atlas[1].with_name(name), home / "atlas" / name)
+    for name, path in atlas[1].items():
+        shutil.copyfile(path, home / "atlas" / name)
 
 
 def planted(table, every: int = 12) -> np.ndarray:
