@@ -26,11 +26,23 @@ from domes.motion.coupler.fourbar import four_bar
 from domes.motion.coupler.fourier import describe, resample
 from domes.motion.coupler.match import match
 from tests.sampling import FULL, SAMPLE, cases, parts
+from tests.shared import shared_file
+
+#: The little atlas of these tests: 40 four-bars, coupler points every 1.0.
+LITTLE = AtlasSpec("test", 40, 1.0)
 
 
 @pytest.fixture(scope="module")
-def little():
-    return build(AtlasSpec("test", 40, 1.0))
+def little(tmp_path_factory):
+    """The little atlas, built once in a test run and shared by the tests that use it (tests/shared.py)."""
+    return load_atlas(shared_file(tmp_path_factory, "fourbar-test40.h5", lambda path: save_atlas(build(LITTLE), path)))
+
+
+@pytest.fixture(scope="module")
+def little_windows(tmp_path_factory):
+    """The little atlas's window index of open paths, built once in a test run."""
+    return load_atlas(shared_file(tmp_path_factory, "fourbar-test40-open.h5",
+                                  lambda path: save_atlas(build_windows(LITTLE), path)))
 
 
 def test_design_points_fill_the_design_space_off_the_cuts():
@@ -173,15 +185,17 @@ def test_the_next_write_removes_the_temporary_files_of_killed_writes(little, tmp
     assert load_atlas(tmp_path / "a.h5").count == little.count
 
 
-def test_two_workers_build_the_same_atlas(little):
-    # The linkages are shared among processes in chunks and merged in design-point order: the same table.
-    spec = AtlasSpec("test", 40, 1.0)
+def test_two_workers_build_the_same_atlas(little, little_windows):
+    # The linkages are shared among processes in chunks and merged in design-point order: the same table as one
+    # process built, saved and read back (so every column and the metadata, less the build's time, also come back
+    # from the file as built).
     with ProcessPoolExecutor(max_workers=2) as pool:
-        pairs = ((little, build(spec, executor=pool)), (build_windows(spec), build_windows(spec, executor=pool)))
+        pairs = ((little, build(LITTLE, executor=pool)), (little_windows, build_windows(LITTLE, executor=pool)))
         for table, again in pairs:
             assert table.count == again.count > 0
             for name in ("linkages", "link", "point", "circuit", "features"):
                 assert np.array_equal(getattr(table, name), getattr(again, name)), name
+            assert table.meta == {**again.meta, "seconds": table.meta["seconds"]}
 
 
 @functools.cache
@@ -230,13 +244,13 @@ def test_matching_round_trip_of_200_random_four_bars(part, small_atlas):
     assert sum(results) >= len(results) - part.allowed, "\n".join(failures)
 
 
-def test_an_open_stretch_is_found_in_the_window_index():
+def test_an_open_stretch_is_found_in_the_window_index(little_windows):
     # Item 5 of issue 14, open paths: 30 points over 40% of a curve of an indexed linkage (coupler point (1, 1), no
     # link near zero, whose short arcs many linkages approximate), starting between the
     # indexed windows, drawn backwards, mirrored and placed at another scale and position: the window index finds
     # the stretch and refinement passes through every point, as checked by the kernel. (How often a stretch of
     # any four-bar is matched, per tolerance, is measured by benchmarks/bench_curves.py: docs/curves.md.)
-    windows = build_windows(AtlasSpec("test", 40, 1.0))
+    windows = little_windows
     atlas = OpenAtlas(windows)
     row = np.flatnonzero(np.all((windows.linkages > 0.6) & (windows.linkages < 1.4), axis=1))[0]  # no link tiny
     index = int(np.flatnonzero((windows.link == row) & (windows.circuit == 0) & np.all(windows.point == 1.0, axis=1))[0])
