@@ -137,11 +137,14 @@ def test_graph_view_is_the_chain_graph():
 
 
 @pytest.mark.slow
-def test_twelve_bar_sample_drawn_without_crossings():
+def test_twelve_bar_sample_drawn_without_crossings(tmp_path_factory):
     # Every 20th of the 6856 one-DOF twelve-bar chains (seed 002 §3-2-II): the planar ones
     # have no crossing. Joints come closer here (measured worst 0.129 of the median link
     # size, docs/sketch.md), so the bound is lower than for the 8- and 10-bar atlases.
-    sample = chains(links=12, dof=1)[::20]
+    # The atlas is built once in a run for the tests that read it (tests/typesynth/reference.py).
+    from tests.typesynth.reference import chain_atlas
+
+    sample = [Chain.from_graph6(text) for text in chain_atlas(tmp_path_factory, 12, 1)[::20]]
     planar = [c for c in sample if nx.check_planarity(c.to_networkx())[0]]
     assert len(sample) == 343 and len(planar) == 298
     for chain in planar:
