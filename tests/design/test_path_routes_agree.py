@@ -63,9 +63,13 @@ def planted(rng, kind: str, n: int = 12):
     return np.array(pts), first
 
 
+#: Planted cases: each kind twice, a crank-rocker and a double crank among them with a0 given (:func:`_given`).
+CASES = 6
+
+
 def _cases():
     rng = np.random.default_rng(27)
-    return [planted(rng, KINDS[k % len(KINDS)]) for k in range(12)]
+    return [planted(rng, KINDS[k % len(KINDS)]) for k in range(CASES)]
 
 
 def _given(k: int) -> bool:
@@ -103,10 +107,11 @@ def test_the_path_route_recovers_planted_four_bars_exactly(answers):
         recovered += worst <= 1e-8
         if worst <= 1e-8:
             assert result.solutions[0].usable
-    # measured with the quick atlas built in memory and 16 random starts: 9 of 12. The other three are beyond the
-    # quick atlas's reach (curves match with the small atlas misses one of them too: a double crank whose coupler
-    # point lies far out); benchmarks/bench_path_routes.py measures the small atlas and the default 4,096 starts.
-    assert recovered >= 9
+    # measured with the quick atlas built in memory and 16 random starts: 4 of the 6 (9 of the first 12 of the same
+    # stream). The two misses, a double crank with a0 given and a rocker-crank, are beyond the quick atlas's reach;
+    # the work is counted (starts and iterations, no clock), so the count does not depend on the machine's load;
+    # benchmarks/bench_path_routes.py measures the small atlas and the default 4,096 starts.
+    assert recovered >= 4
 
 
 def test_a0_given_is_kept(answers):

@@ -233,16 +233,20 @@ def test_slider_dyads_of_a_planted_slider_crank():
 
     rng = np.random.default_rng(7)
     found = whole = 0
-    for _ in range(50):
+    # the whole synthesis (five positions: the Burmester search) for a sample of the 50 (tests/sampling.py), the
+    # slider points of three and four positions for all
+    synthesised = cases(50)
+    for k in range(50):
         pos, pins = _slider_crank_positions(rng, 5)
         c1 = pins[0][1]
         assert math.dist(sl.slider_for_direction(pos[:3], 0.0).a1, c1) < 1e-9
         four = sl.slider_points(pos[:4])
         found += any(math.dist(s.a1, c1) < 1e-8 and abs(math.sin(s.direction)) < 1e-9 for s in four)
-        result = synthesize(GuidanceTask(tuple(pos), slider=True))
-        whole += any(getattr(s.fourbar, "direction", None) is not None and math.dist(s.fourbar.b1, c1) < 1e-7
-                     and math.dist(s.fourbar.a0, (0, 0)) < 1e-7 for s in result.solutions)
-    assert found == 50 and whole >= 49
+        if k < synthesised:
+            result = synthesize(GuidanceTask(tuple(pos), slider=True))
+            whole += any(getattr(s.fourbar, "direction", None) is not None and math.dist(s.fourbar.b1, c1) < 1e-7
+                         and math.dist(s.fourbar.a0, (0, 0)) < 1e-7 for s in result.solutions)
+    assert found == 50 and whole >= synthesised - allowed_misses(synthesised, 0.02)
 
 
 @pytest.mark.parametrize("data, message", [
@@ -431,7 +435,8 @@ def test_prescribed_input_angles_and_least_squares_path():
     for noise, bound in ((0.0, 1e-7), (1e-3, 1e-2)):
         moved_points = P + rng.normal(0, noise, P.shape)
         data = {"kind": "path", "points": moved_points.tolist(), "a0": a0.tolist()}
-        result = synthesize(task_from_dict(data))
+        # 128 random starts besides the atlas's (the default 4,096 find the same nearest linkage, 7.7e-4 away)
+        result = synthesize(task_from_dict(data), "fast", 16)
         assert "least squares" in result.notes[0]
         if noise:
             # issue 31, item 3: a least-squares linkage is usable only within the task's tolerance (default 1e-6 of
