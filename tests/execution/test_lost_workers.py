@@ -90,13 +90,19 @@ def test_a_cluster_without_workers_gives_up_after_the_timeout(monkeypatch):
             run.map(abs, [1, -2, 3])
 
 
-@pytest.mark.parametrize("kind, error", [("input", InputError), ("timeout", TimeoutError)])
-def test_a_tasks_own_error_is_raised_as_it_was(kind, error):
-    # A TimeoutError raised by the task is the task's, not a lost connection: it is not run again nor renamed.
+@pytest.fixture(scope="module")
+def cluster():
+    """A two-worker cluster for the tests that kill no worker."""
     with executor(workers=2) as run:
-        with pytest.raises(error, match="a task's own"):
-            run.map(wrong, [kind])
-        assert run.map(abs, [-1]) == [1]
+        yield run
+
+
+@pytest.mark.parametrize("kind, error", [("input", InputError), ("timeout", TimeoutError)])
+def test_a_tasks_own_error_is_raised_as_it_was(cluster, kind, error):
+    # A TimeoutError raised by the task is the task's, not a lost connection: it is not run again nor renamed.
+    with pytest.raises(error, match="a task's own"):
+        cluster.map(wrong, [kind])
+    assert cluster.map(abs, [-1]) == [1]
 
 
 def test_the_timeout_knob_is_checked_before_a_run(monkeypatch):
