@@ -8,6 +8,7 @@ by the kernel's analytic rates that fitted it.
 
 import json
 import math
+import pickle
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +25,7 @@ from domes.model.mechanism import Mechanism
 from domes.motion.planar.query import Kinematics
 from domes.motion.planar.sweep import sweep
 from domes.sketch.synthesis import synthesis_html
+from tests.shared import shared_file
 
 ROOT = Path(__file__).resolve().parents[2]
 RISING = ROOT / "examples" / "synthesis" / "rising-rate.json"
@@ -55,9 +57,12 @@ def test_a_planted_four_bar_function_is_recovered():
 
 
 @pytest.fixture(scope="module")
-def rising():
+def rising(tmp_path_factory):
+    """The rising-rate task dimensioned (fast, 8 seeds): once per test run, shared by the ``pytest -n`` workers."""
     task = load_task(RISING)
-    return task, synthesize(task, "fast", 8)
+    made = shared_file(tmp_path_factory, "rising-rate-fast-8.pickle",
+                       lambda path: path.write_bytes(pickle.dumps(synthesize(task, "fast", 8))))
+    return task, pickle.loads(made.read_bytes())
 
 
 def test_rising_rate_suspension_every_candidate_type_verified(rising):
@@ -84,10 +89,24 @@ def test_rising_rate_suspension_every_candidate_type_verified(rising):
         assert task.length_range[0] <= length.min() and length.max() <= task.length_range[1]
 
 
-def test_rising_rate_as_json_mechanisms_and_html(tmp_path, capsys):
+def test_rising_rate_as_json_mechanisms_and_html(tmp_path, capsys, monkeypatch, rising):
+    # the command's dimensioning (fast, 8 seeds) is the fixture's, the same call made once per run: this test reads
+    # what the command writes of it
+    import domes.design.synthesis as synthesis
+
+    task, result = rising
+    asked = []
+
+    def dimensioned(given, method, seeds, **knobs):
+        asked.append((given.name, method, seeds, knobs.get("executor"), knobs.get("min_transmission_deg"),
+                      knobs.get("tolerance"), knobs.get("max_link_ratio")))
+        return result
+
+    monkeypatch.setattr(synthesis, "synthesize", dimensioned)
     out = tmp_path / "r.json"
-    assert main(["synthesize", str(RISING), "--method", "fast", "--seeds", "2", "--format", "json",
+    assert main(["synthesize", str(RISING), "--method", "fast", "--seeds", "8", "--format", "json",
                  "-o", str(out)]) == 0
+    assert asked == [(task.name, "fast", 8, None, None, None, None)]
     data = json.loads(out.read_text())
     mechs = [Mechanism.from_dict(s["mechanism"]) for s in data["solutions"] if s["usable"]]
     assert mechs and all(len(m.links) == 6 for m in mechs)

@@ -25,6 +25,7 @@ from domes.io.transcripts import read_answers
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.sweep import sweep
 from domes.store.casebase import KnowledgeBase
+from tests.expert.shared_designs import designs_computed_once
 
 ROOT = Path(__file__).resolve().parents[2]
 SESSIONS = {"motorcycle": "motorcycle-rising-rate", "clamp": "hinge-clamp-toggle", "window": "window-lifter-design"}
@@ -39,12 +40,14 @@ def sessions(tmp_path_factory):
         for p in kb.problems():
             kb.remove_problem(p.id)
     out = {}
-    for key, name in SESSIONS.items():
-        said = []
-        report = folder / f"report-{key}"
-        outcome = Dialogue(f"sqlite:///{folder / 'casebase.db'}", read_answers(ROOT / "examples" / "design" / f"{name}.answers"),
-                           interactive=False, out=said.append, knobs=DesignKnobs(report=report)).run()
-        out[key] = (outcome, "\n".join(said), report)
+    with designs_computed_once(tmp_path_factory):  # the same feasibility level as other tests' sessions: once
+        for key, name in SESSIONS.items():
+            said = []
+            report = folder / f"report-{key}"
+            outcome = Dialogue(f"sqlite:///{folder / 'casebase.db'}",
+                               read_answers(ROOT / "examples" / "design" / f"{name}.answers"),
+                               interactive=False, out=said.append, knobs=DesignKnobs(report=report)).run()
+            out[key] = (outcome, "\n".join(said), report)
     return out
 
 
@@ -358,7 +361,7 @@ def test_the_time_budget_trades_designs_for_time_and_says_what_it_left(casebase)
 
 
 def test_workers_give_the_designs_of_one_process(casebase, tmp_path):
-    here, _ = run_clamp(casebase)
+    here, _ = run_clamp(casebase)  # one process (computed once per run: tests/expert/shared_designs.py)
     import shutil as _shutil
 
     other = tmp_path / "other.db"

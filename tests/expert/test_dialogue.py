@@ -4,6 +4,7 @@ Each test drives the dialogue with recorded answers against a scratch copy
 of the shipped case base, and checks the stored frames and relevance vectors.
 """
 
+import shutil
 from pathlib import Path
 
 import pytest
@@ -15,6 +16,7 @@ from domes.expert.world import World
 from domes.io.resources import knowledge_dir
 from domes.io.transcripts import parse_answers
 from domes.store.casebase import KnowledgeBase
+from tests.shared import small_atlas_file
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout
 MOTORCYCLE = (ROOT / "examples" / "design" / "motorcycle.answers").read_text()
@@ -262,11 +264,19 @@ def test_help_on_loops_and_names(casebase):
 
 
 @pytest.mark.slow
-def test_a_wanted_coupler_path_is_answered_with_four_bars_that_trace_it(casebase, tmp_path, monkeypatch):
+def test_a_wanted_coupler_path_is_answered_with_four_bars_that_trace_it(casebase, tmp_path, tmp_path_factory,
+                                                                       monkeypatch):
     # Backward reasoning at the verification step (seed 002 §6-3, §6-4): the designer gives the path a
     # point must trace (the figure-eight of Fig. 6-33, placed and scaled); the expert looks it up in the
-    # atlas (built in the scratch DOMES_HOME on first use), refines the nearest four-bars, and draws them.
+    # small atlas of the scratch DOMES_HOME, refines the nearest four-bars, and draws them. The atlas there is
+    # the one built once per run as it is built on first use (tests/shared.py); that it is built in the user's
+    # data folder when missing is checked by tests/motion/test_curves_cli.py
+    # (test_documented_match_builds_the_small_atlas).
+    from domes.io.atlas import atlas_path
+
     monkeypatch.setenv("DOMES_HOME", str(tmp_path / "home"))
+    atlas_path("small").parent.mkdir(parents=True)
+    shutil.copyfile(small_atlas_file(tmp_path_factory), atlas_path("small"))
     wanted = tmp_path / "figure-eight.csv"
     wanted.write_text((ROOT / "examples" / "curves" / "figure-eight.csv").read_text())
     text = WINDOW_LIFTER.replace("verify: none\n", f"verify: path {tmp_path / 'missing.csv'}\n"

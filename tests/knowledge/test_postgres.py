@@ -10,9 +10,12 @@ without Debian's postgresql package the tests are skipped with a note.
 import json
 from pathlib import Path
 
+import pytest
+
 from domes.cli import main
 from domes.io.criteria import read_cases
 from domes.store.casebase import KnowledgeBase, build
+from tests.expert.shared_designs import designs_once_fixture  # noqa: F401 (a fixture)
 from tests.postgres import contents, postgres_casebase_fixture, postgres_server_fixture  # noqa: F401 (fixtures)
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout
@@ -28,7 +31,10 @@ def run(capsys, *argv):
 
 
 
+@pytest.mark.usefixtures("designs_once")
 def test_a_design_session_retains_the_same_case_in_postgresql_as_in_sqlite(postgres_casebase, tmp_path, capsys):
+    # the three sessions' feasibility level (the same inputs: the case base does not change it) is computed once
+    # per test run (tests/expert/shared_designs.py); this test is about what the case base keeps
     pg = postgres_casebase
     before = contents(pg)
     status, out, _ = run(capsys, "design", "--answers", str(QUICKSTART), "--dry-run", "--db", pg)

@@ -18,6 +18,7 @@ from domes.expert.replay import frame_differences, scratch_casebase
 from domes.io.transcripts import load_session, load_transcript, read_answers
 from domes.sketch.report import funnel
 from domes.store.casebase import KnowledgeBase
+from tests.expert.shared_designs import designs_once_fixture  # noqa: F401 (a fixture)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "design"
 ENDED = ("done", "failed", "cancelled")
@@ -66,7 +67,10 @@ def casebase_state() -> tuple:
         return ([p.to_dict() for p in kb.problems()], sorted(c.id for c in kb.frames()), len(kb.history()))
 
 
+@pytest.mark.usefixtures("designs_once")
 def test_quickstart_through_the_routes_ends_as_the_dialogue_run_directly(client, home):
+    # the routes' session runs in a process of its own; the one run directly here takes its feasibility level as
+    # computed once per test run for these inputs (tests/expert/shared_designs.py)
     script = read_answers(EXAMPLES / "quickstart.answers")
     before = casebase_state()
     direct = {}
