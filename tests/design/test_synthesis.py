@@ -553,7 +553,7 @@ def test_a_long_synthesis_reports_progress_on_stderr_unless_quiet(tmp_path, caps
     assert main(args) in (0, 1) and page.exists()
     err = capsys.readouterr().err
     assert "... path points: Gauss-Newton step" in err and "... path points: polishing least-squares minimum" in err
-    assert main(args + ["--quiet"]) in (0, 1)
+    assert main(args + ["--quiet", "--seeds", "2"]) in (0, 1)      # (as quiet with fewer random starts)
     assert capsys.readouterr().err == ""
 
 
