@@ -12,6 +12,15 @@ state), so that ``pytest -n auto`` spreads them over the workers. A command
 that does not depend on what earlier commands did (PURE) runs once, where it
 first appears; a read-only command written twice in a row runs once; and a
 command another test runs and checks more closely (ELSEWHERE) is left to it.
+A ``--dry-run`` design session (DRY_RUN) is left to an earlier run of it, or to
+another test, only when what it reads is still as shipped (checked when it
+comes: else it runs here).
+
+The scratch data folder holds the small coupler-curve atlas and its index of
+open paths, built once per test run (tests/shared.py), as after a first
+``domes curves match``: that the first match builds the atlas there is
+tested by tests/motion/test_curves_cli.py, and that the first ``--open`` match
+builds the index there, by the parts of OPEN_INDEX_BUILT_HERE.
 """
 
 import os
@@ -46,7 +55,14 @@ BLOCKWISE = ("README.md",)
 PURE = ("domes kinematics ", "domes synthesize ", "domes tolerance ", "domes dynamics ", "domes cam ", "domes chain ",
         "domes curves classify ", "domes curves trace ", "domes curves describe ", "domes generalize ",
         "domes catalogue ", "domes synthesis ", "domes draw ", "domes chains --links 12 --dof 1 --count ",
-        "domes chains --links 10 --dof 1 --format html ")
+        "domes chains --links 10 --dof 1 --format html ",
+        # it goes on from what atlas12/ holds: no command writes atlas12/ before it on its page (checked below)
+        "domes chains --links 12 --dof 1 --workers 2 --out atlas12")
+#: A design session on a scratch copy of the case base: it reads the answers, the knowledge, the case base and the
+#: data folder, and keeps nothing. Written again, or run by another test (ELSEWHERE), it is left to that run only
+#: when the scratch folder's examples/, knowledge/, casebase.db and data folder are still as the test made them
+#: (else it runs here); the run of a page that others are left to checks the same before it runs.
+DRY_RUN = re.compile(r"domes design --answers examples/design/[\w-]+\.answers --dry-run")
 #: Commands that change nothing: written twice in a row, they run once.
 READ_ONLY = (*PURE, "domes kb screen ", "python -m domes kb screen ", "domes kb list", "python -m domes kb list",
              "domes kb parse ", "python -m domes kb parse ", "domes cases list", "domes cases show ")
@@ -55,7 +71,14 @@ ELSEWHERE = {
     "domes curves match examples/curves/figure-eight.csv --format html -o eight.html":
         ("tests/motion/test_curves_cli.py", "test_documented_match_builds_the_small_atlas",
          '"curves", "match", str(ROOT / "examples/curves/figure-eight.csv"), "--format", "html", "-o"'),
+    # the quick start's session, on the shipped case base (exit 0 required; it asks for no coupler path, so the
+    # atlas files of the data folder here are not read)
+    "domes design --answers examples/design/quickstart.answers --dry-run":
+        (".ci/run", None, "&& domes design --answers examples/design/quickstart.answers --dry-run\n"),
 }
+#: Parts whose data folder gets the small atlas but not its index of open paths: their first ``--open`` match
+#: builds it there.
+OPEN_INDEX_BUILT_HERE = ("README.md#14",)
 
 
 def blocks(page: Path) -> list[list[str]]:
@@ -100,10 +123,23 @@ def _plain(command: str) -> str:
     return " ".join(_strip_comment(command).split())
 
 
+#: Per part, the steps not run only while the scratch folder is as made (DRY_RUN: else they run), and the steps
+#: whose run others are left to (the folder must be as made when they come).
+UNLESS_CHANGED: dict[str, set[int]] = {}
+RELIED_ON: dict[str, set[int]] = {}
+
+
+def _elsewhere(plain: str) -> str:
+    file, name, _ = ELSEWHERE[plain]
+    return f"run and checked by {file}::{name}" if name else f"run by {file}"
+
+
 def plan() -> dict[str, list[tuple[str, str | None]]]:
     """Every part (a page, or a block of a BLOCKWISE page) with each of its commands and why it is not run here
     (None: run)."""
     parts, first = {}, {}
+    UNLESS_CHANGED.clear()
+    RELIED_ON.clear()
     for page in PAGES:
         chunks = blocks(ROOT / page)
         named = [(f"{page}#{k + 1}", c) for k, c in enumerate(chunks)] if page in BLOCKWISE else [(page, commands(ROOT / page))]
@@ -115,13 +151,20 @@ def plan() -> dict[str, list[tuple[str, str | None]]]:
                 if skipped is not None:
                     why = SKIPPED[skipped]
                 elif plain in ELSEWHERE:
-                    why = "run and checked by {}::{}".format(*ELSEWHERE[plain][:2])
+                    why = _elsewhere(plain)
+                    if DRY_RUN.fullmatch(plain):
+                        why += ", with what it reads as shipped (if so here)"
+                        UNLESS_CHANGED.setdefault(name, set()).add(len(steps))
+                elif DRY_RUN.fullmatch(plain) and plain in first:
+                    why = f"the same session ran in {first[plain][0]}, with what it reads as shipped (if so here)"
+                    UNLESS_CHANGED.setdefault(name, set()).add(len(steps))
+                    RELIED_ON.setdefault(first[plain][0], set()).add(first[plain][1])
                 elif plain.startswith(PURE) and plain in first:
-                    why = f"the same command ran in {first[plain]}"
+                    why = f"the same command ran in {first[plain][0]}"
                 elif plain == before and plain.startswith(READ_ONLY):
                     why = "the same command ran just before"
                 if why is None:
-                    first.setdefault(plain, name)
+                    first.setdefault(plain, (name, len(steps)))
                     before = plain
                 steps.append((command, why))
             parts[name] = steps
@@ -131,6 +174,27 @@ def plan() -> dict[str, list[tuple[str, str | None]]]:
 PLAN = plan()
 #: The parts with a command to run.
 RUN = [name for name, steps in PLAN.items() if any(why is None for _, why in steps)]
+
+
+def _inputs(folder: Path) -> list[tuple[str, int, int]]:
+    """What a design session reads of the scratch folder, as each file's name, size and time of change."""
+    paths = [folder / "casebase.db", *(p for name in ("examples", "knowledge", "home") for p in (folder / name).rglob("*"))]
+    return sorted((str(p.relative_to(folder)), p.stat().st_size, p.stat().st_mtime_ns) for p in paths if p.is_file())
+
+
+def _seed_atlas(home: Path, tmp_path_factory, kinds) -> None:
+    """The small atlas files (built once per run) in the data folder where the commands look for them."""
+    from domes.io.atlas import atlas_path
+    from tests.shared import small_atlas_file
+
+    for kind in kinds:
+        source = small_atlas_file(tmp_path_factory, kind)
+        target = home / "atlas" / atlas_path("small", kind).name
+        target.parent.mkdir(parents=True, exist_ok=True)
+        try:
+            os.link(source, target)  # read only by the commands (a new build is written beside and renamed)
+        except OSError:
+            shutil.copyfile(source, target)
 
 
 @pytest.fixture
@@ -146,11 +210,16 @@ def scratch(tmp_path):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("part", RUN)
-def test_documented_commands_run(part, scratch):
+def test_documented_commands_run(part, scratch, tmp_path_factory):
     folder, env = scratch
+    _seed_atlas(folder / "home", tmp_path_factory, ("closed",) if part in OPEN_INDEX_BUILT_HERE else ("closed", "open"))
+    made = _inputs(folder)
     ran = 0
-    for command, why in PLAN[part]:
-        if why is not None:
+    for k, (command, why) in enumerate(PLAN[part]):
+        if k in RELIED_ON.get(part, ()):
+            assert _inputs(folder) == made, f"{part}: {command}: later runs of it are left to this one, but an " \
+                                            "earlier command changed what it reads"
+        if why is not None and not (k in UNLESS_CHANGED.get(part, ()) and _inputs(folder) != made):
             continue
         expected = 1 if _strip_comment(command).strip() in INTERACTIVE else 0
         result = subprocess.run(["bash", "-c", command], cwd=folder, env=env, stdin=subprocess.DEVNULL,
@@ -171,9 +240,22 @@ def test_every_documented_command_is_run_or_says_why():
             if _plain(command) in ELSEWHERE:
                 file, name, arguments = ELSEWHERE[_plain(command)]
                 source = (ROOT / file).read_text()
-                assert f"def {name}(" in source and arguments in source, (command, file, name)
+                assert (name is None or f"def {name}(" in source) and arguments in source, (command, file, name)
             elif why is not None and not command.startswith(tuple(SKIPPED)):
                 assert _plain(command) in run, command
+    # a session left to an earlier run of it is left to a run that checks it reads the shipped inputs (and the same
+    # data folder: both atlas files)
+    assert not set(RELIED_ON) & set(OPEN_INDEX_BUILT_HERE)
+    for part, steps in UNLESS_CHANGED.items():
+        for k in steps:
+            plain = _plain(PLAN[part][k][0])
+            assert plain in ELSEWHERE or any(_plain(PLAN[p][i][0]) == plain and PLAN[p][i][1] is None
+                                             for p, relied in RELIED_ON.items() for i in relied), (part, plain)
+    # the atlas job that goes on from what its folder holds is the first command of its page to name that folder
+    for steps in PLAN.values():
+        for k, (command, _) in enumerate(steps):
+            if _plain(command).startswith("domes chains --links 12 --dof 1 --workers 2 --out atlas12"):
+                assert not any("atlas12" in c for c, _ in steps[:k]), command
 
 
 def test_the_pages_have_commands():
