@@ -360,10 +360,11 @@ def _labelled(chain):
     return LabelledChain.build(n, edges)
 
 
-def active_pairs(chain, joints: Iterable | None = None, *, role: str = "input") -> ActivePairs:
+def active_pairs(chain, joints: Iterable | None = None, *, role: str = "input", types: bool = True) -> ActivePairs:
     """Whether ``joints`` (indices into ``chain.edges`` or link pairs; default :func:`input_joints`) of a
     :class:`~domes.model.LabelledChain` or a plain :class:`~domes.model.Chain` (revolute joints, no ground)
-    can be its active pairs together, and the DOF type they give.
+    can be its active pairs together, and the DOF type they give (``types=False``: not worked out, ``dof_type``
+    None and ``moved_by`` empty; on a chain without a ground the type takes one pebble game per link).
 
     >>> from domes.model import LabelledChain
     >>> five_bar = LabelledChain.build(5, [(0, 1), (1, 2), (2, 3), (3, 4), (4, 0)],
@@ -404,9 +405,9 @@ def active_pairs(chain, joints: Iterable | None = None, *, role: str = "input") 
         reason = (f"{said} {'leaves' if len(chosen) == 1 else 'leave'} {remaining} of the {dof} DOF: "
                   f"the chain needs {dof} active pair{'s' if dof != 1 else ''}")
     else:
-        if dof >= 1 and len(grounds) == 1:
+        if types and dof >= 1 and len(grounds) == 1:
             dof_type, moved = _dof_type(chain, chosen, base, extra, grounds[0])
-        elif dof >= 1 and not grounds:
+        elif types and dof >= 1 and not grounds:
             dof_type = _dof_type_any_ground(chain, chosen, base, extra)
         kind = f", {dof_type} DOF" if dof_type else ""
         reason = f"{said} can drive the chain together (DOF {dof}{kind})"
@@ -450,7 +451,7 @@ def can_be_active(chain, joints: Iterable | None = None, *, role: str = "input")
     >>> can_be_active(LabelledChain.build(4, [(0, 1), (1, 2), (2, 3), (3, 0)]), [(0, 1)])
     True
     """
-    return active_pairs(chain, joints, role=role).feasible
+    return active_pairs(chain, joints, role=role, types=False).feasible
 
 
 @dataclass(frozen=True)
