@@ -6,6 +6,11 @@ DOMES_KNOWLEDGE, so that nothing of the checkout is changed. A command fails
 the test when it exits with a status the page does not show; the few that are
 not run say why in SKIPPED.
 
+A command that is the command line alone (``domes ARGS``, no shell syntax)
+runs through the console script's entry point, ``domes.cli.main``, in a
+child forked from the test process, the package already imported; any other
+command runs in bash.
+
 The pages of BLOCKWISE run block by block, each block a test of its own in its
 own scratch folder (their blocks are independent: each starts from the shipped
 state), so that ``pytest -n auto`` spreads them over the workers. A command
@@ -23,11 +28,16 @@ tested by tests/motion/test_curves_cli.py, and that the first ``--open`` match
 builds the index there, by the parts of OPEN_INDEX_BUILT_HERE.
 """
 
+import contextlib
 import os
 import re
+import shlex
 import shutil
+import signal
 import subprocess
 import sys
+import tempfile
+import traceback
 from pathlib import Path
 
 import pytest
@@ -197,6 +207,98 @@ def _seed_atlas(home: Path, tmp_path_factory, kinds) -> None:
             shutil.copyfile(source, target)
 
 
+#: Seconds a command may take.
+TIMEOUT = 300
+#: Characters of shell syntax (a pipe, a redirection, a substitution, a glob, a second command): a command with
+#: any of them, even quoted, runs in bash.
+SHELL = re.compile(r"[|&;<>()$`*?\[\]{}~!\\]")
+#: The status of a forked command that ended in a traceback.
+TRACEBACK = 70
+
+
+def domes_argv(command: str) -> list[str] | None:
+    """The arguments of a command that is ``domes ARGS`` (or ``python -m domes ARGS``) and nothing else; None for
+    anything the shell must run.
+
+    >>> domes_argv("domes kb add --id x --text 'a b'   # a comment")
+    ['kb', 'add', '--id', 'x', '--text', 'a b']
+    >>> domes_argv("domes chains --links 10 --dof 1 --format html > atlas.html") is None
+    True
+    """
+    try:
+        words = shlex.split(command, comments=True)
+    except ValueError:  # not for this reading: the shell's
+        return None
+    if any(SHELL.search(word) for word in words):  # shell syntax (or the like, quoted: the shell runs it)
+        return None
+    if words[:1] == ["domes"]:
+        return words[1:]
+    if words[:3] == ["python", "-m", "domes"]:
+        return words[3:]
+    return None
+
+
+@pytest.fixture(scope="module", autouse=True)
+def imported():
+    """What the commands import, imported once: each forked command then costs only its own work."""
+    import h5py  # noqa: F401
+    import scipy.optimize  # noqa: F401
+
+    import domes.cli
+    import domes.expert.dialogue  # noqa: F401
+    import domes.sketch.curves  # noqa: F401
+
+    domes.cli.build_parser()
+
+
+def run_forked(argv: list[str], folder: Path, env: dict[str, str]) -> tuple[int, str]:
+    """``domes ARGV`` run by its entry point (:func:`domes.cli.main`) in a child of this process, in ``folder``
+    with ``env`` and an empty stdin, as the console script runs it: its exit status and what it wrote on stderr
+    (a traceback: :data:`TRACEBACK` and the trace)."""
+    from domes.cli import main
+
+    with tempfile.TemporaryDirectory(prefix="domes-doc-") as tmp:
+        err_file = Path(tmp) / "stderr.txt"
+        sys.stdout.flush()
+        sys.stderr.flush()
+        pid = os.fork()
+        if pid == 0:  # the child: never returns
+            status = TRACEBACK
+            try:
+                signal.signal(signal.SIGALRM, signal.SIG_DFL)
+                signal.signal(signal.SIGINT, signal.SIG_DFL)
+                signal.alarm(TIMEOUT)
+                os.environ.clear()
+                os.environ.update(env)
+                os.chdir(folder)
+                os.dup2(os.open(os.devnull, os.O_RDONLY), 0)
+                os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
+                os.dup2(os.open(err_file, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), 2)
+                sys.stdin = open(0, encoding="utf-8", closefd=False)
+                sys.stdout = open(1, "w", encoding="utf-8", closefd=False)
+                sys.stderr = open(2, "w", encoding="utf-8", closefd=False)
+                import logging
+
+                logging.getLogger("domes").handlers.clear()
+                try:
+                    status = main(argv)
+                except SystemExit as stop:
+                    status = stop.code if isinstance(stop.code, int) else 2
+            except BaseException:  # noqa: BLE001 - what the test looks for
+                traceback.print_exc()
+                status = TRACEBACK
+            finally:
+                with contextlib.suppress(BaseException):
+                    sys.stdout.flush()
+                    sys.stderr.flush()
+                os._exit(status if isinstance(status, int) and 0 <= status < 256 else TRACEBACK)
+        _, wait = os.waitpid(pid, 0)
+        stderr = err_file.read_text(encoding="utf-8", errors="replace")
+    if os.WIFSIGNALED(wait):
+        return 128 + os.WTERMSIG(wait), stderr
+    return os.WEXITSTATUS(wait), stderr
+
+
 @pytest.fixture
 def scratch(tmp_path):
     for name in ("examples", "knowledge"):
@@ -222,10 +324,15 @@ def test_documented_commands_run(part, scratch, tmp_path_factory):
         if why is not None and not (k in UNLESS_CHANGED.get(part, ()) and _inputs(folder) != made):
             continue
         expected = 1 if _strip_comment(command).strip() in INTERACTIVE else 0
-        result = subprocess.run(["bash", "-c", command], cwd=folder, env=env, stdin=subprocess.DEVNULL,
-                                capture_output=True, text=True, timeout=300)
-        assert result.returncode == expected, f"{part}: {command}\nexit {result.returncode}\n{result.stderr[-2000:]}"
-        assert "Traceback" not in result.stderr, f"{part}: {command}\n{result.stderr[-2000:]}"
+        argv = domes_argv(command)
+        if argv is None:
+            result = subprocess.run(["bash", "-c", command], cwd=folder, env=env, stdin=subprocess.DEVNULL,
+                                    capture_output=True, text=True, timeout=TIMEOUT)
+            status, stderr = result.returncode, result.stderr
+        else:
+            status, stderr = run_forked(argv, folder, env)
+        assert status == expected, f"{part}: {command}\nexit {status}\n{stderr[-2000:]}"
+        assert "Traceback" not in stderr, f"{part}: {command}\n{stderr[-2000:]}"
         ran += 1
     assert ran, part
 
