@@ -28,19 +28,18 @@ tested by tests/motion/test_curves_cli.py, and that the first ``--open`` match
 builds the index there, by the parts of OPEN_INDEX_BUILT_HERE.
 """
 
-import contextlib
 import os
 import re
 import shlex
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
-import traceback
 from pathlib import Path
 
 import pytest
+
+from tests.shared import forked_main
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = ["README.md", *sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs").glob("*.md"))]
@@ -212,8 +211,6 @@ TIMEOUT = 300
 #: Characters of shell syntax (a pipe, a redirection, a substitution, a glob, a second command): a command with
 #: any of them, even quoted, runs in bash.
 SHELL = re.compile(r"[|&;<>()$`*?\[\]{}~!\\]")
-#: The status of a forked command that ended in a traceback.
-TRACEBACK = 70
 
 
 def domes_argv(command: str) -> list[str] | None:
@@ -252,51 +249,12 @@ def imported():
 
 
 def run_forked(argv: list[str], folder: Path, env: dict[str, str]) -> tuple[int, str]:
-    """``domes ARGV`` run by its entry point (:func:`domes.cli.main`) in a child of this process, in ``folder``
-    with ``env`` and an empty stdin, as the console script runs it: its exit status and what it wrote on stderr
-    (a traceback: :data:`TRACEBACK` and the trace)."""
-    from domes.cli import main
-
+    """``domes ARGV`` run by its entry point in a child of this process (tests/shared.py :func:`forked_main`), in
+    ``folder`` with ``env`` and an empty stdin, as the console script runs it: its exit status and its stderr."""
     with tempfile.TemporaryDirectory(prefix="domes-doc-") as tmp:
-        err_file = Path(tmp) / "stderr.txt"
-        sys.stdout.flush()
-        sys.stderr.flush()
-        pid = os.fork()
-        if pid == 0:  # the child: never returns
-            status = TRACEBACK
-            try:
-                signal.signal(signal.SIGALRM, signal.SIG_DFL)
-                signal.signal(signal.SIGINT, signal.SIG_DFL)
-                signal.alarm(TIMEOUT)
-                os.environ.clear()
-                os.environ.update(env)
-                os.chdir(folder)
-                os.dup2(os.open(os.devnull, os.O_RDONLY), 0)
-                os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
-                os.dup2(os.open(err_file, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), 2)
-                sys.stdin = open(0, encoding="utf-8", closefd=False)
-                sys.stdout = open(1, "w", encoding="utf-8", closefd=False)
-                sys.stderr = open(2, "w", encoding="utf-8", closefd=False)
-                import logging
-
-                logging.getLogger("domes").handlers.clear()
-                try:
-                    status = main(argv)
-                except SystemExit as stop:
-                    status = stop.code if isinstance(stop.code, int) else 2
-            except BaseException:  # noqa: BLE001 - what the test looks for
-                traceback.print_exc()
-                status = TRACEBACK
-            finally:
-                with contextlib.suppress(BaseException):
-                    sys.stdout.flush()
-                    sys.stderr.flush()
-                os._exit(status if isinstance(status, int) and 0 <= status < 256 else TRACEBACK)
-        _, wait = os.waitpid(pid, 0)
-        stderr = err_file.read_text(encoding="utf-8", errors="replace")
-    if os.WIFSIGNALED(wait):
-        return 128 + os.WTERMSIG(wait), stderr
-    return os.WEXITSTATUS(wait), stderr
+        wait = forked_main(argv, folder, os.devnull, Path(tmp) / "stderr.txt", env=env, alarm=TIMEOUT)
+        stderr = (Path(tmp) / "stderr.txt").read_text(encoding="utf-8", errors="replace")
+    return (128 + os.WTERMSIG(wait) if os.WIFSIGNALED(wait) else os.WEXITSTATUS(wait)), stderr
 
 
 @pytest.fixture

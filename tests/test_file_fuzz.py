@@ -19,9 +19,7 @@ the files and the kinds of damage (tests/sampling.py).
 
 from __future__ import annotations
 
-import contextlib
 import copy
-import io
 import json
 import os
 import random
@@ -29,8 +27,6 @@ import re
 import resource
 import shutil
 import signal
-import sys
-import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -38,6 +34,7 @@ import numpy as np
 import pytest
 
 from tests.sampling import FULL
+from tests.shared import TRACEBACK, forked_main
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Seconds of processor time a run may take before it counts as a hang (processor time, not the clock's, so that a
@@ -52,7 +49,6 @@ MEMORY = 3 << 30
 CI_RUNS = 90
 SEED = 25
 HUGE = 200_000
-TRACEBACK = 99  # the exit status of a child that raised
 
 
 @dataclass(frozen=True)
@@ -454,43 +450,15 @@ class Outcome:
 
 def run_forked(argv: list[str], folder: Path, timeout: int = TIMEOUT) -> Outcome:
     """``domes ARGV`` in a child of this process, in ``folder``, ended after ``timeout`` s of processor time."""
-    from domes.cli import main
-
     out_file, err_file = folder / "stdout.txt", folder / "stderr.txt"
     limit = _virtual_memory() + MEMORY
-    sys.stdout.flush()
-    sys.stderr.flush()
-    pid = os.fork()
-    if pid == 0:  # the child: never returns
-        status = TRACEBACK
-        try:
-            signal.signal(signal.SIGALRM, signal.SIG_DFL)
-            signal.signal(signal.SIGXCPU, signal.SIG_DFL)
-            signal.alarm(3 * timeout)
-            resource.setrlimit(resource.RLIMIT_CPU, (timeout, timeout + 5))
-            resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
-            os.chdir(folder)
-            for fd, name in ((1, out_file), (2, err_file)):
-                os.dup2(os.open(name, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), fd)
-            sys.stdout = open(1, "w", encoding="utf-8", closefd=False)
-            sys.stderr = open(2, "w", encoding="utf-8", closefd=False)
-            sys.stdin = io.StringIO("")
-            import logging
 
-            logging.getLogger("domes").handlers.clear()
-            try:
-                status = main(argv)
-            except SystemExit as stop:
-                status = stop.code if isinstance(stop.code, int) else 2
-        except BaseException:  # noqa: BLE001 - what the test looks for
-            traceback.print_exc()
-            status = TRACEBACK
-        finally:
-            with contextlib.suppress(BaseException):
-                sys.stdout.flush()
-                sys.stderr.flush()
-            os._exit(status if isinstance(status, int) and 0 <= status < 256 else TRACEBACK)
-    _, wait = os.waitpid(pid, 0)
+    def limits():
+        signal.signal(signal.SIGXCPU, signal.SIG_DFL)
+        resource.setrlimit(resource.RLIMIT_CPU, (timeout, timeout + 5))
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+    wait = forked_main(argv, folder, out_file, err_file, alarm=3 * timeout, limits=limits)
     out = out_file.read_text(encoding="utf-8", errors="replace")
     err = err_file.read_text(encoding="utf-8", errors="replace")
     if os.WIFSIGNALED(wait):

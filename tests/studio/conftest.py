@@ -7,15 +7,13 @@ when either is missing.
 from __future__ import annotations
 
 import os
-import re
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
 
 from domes.io.resources import shipped_casebase
+from tests.shared import studio_server
 
 CHROMIUM = "/usr/bin/chromium"
 #: The flags Chromium needs on a closed machine as root (no sandbox, no background connections).
@@ -54,21 +52,8 @@ def client(studio):
 
 @pytest.fixture
 def server(home):
-    """``domes studio`` in a process of its own on a free port: its address (``http://127.0.0.1:PORT``)."""
-    env = {**os.environ, "DOMES_HOME": str(home), "PYTHONUNBUFFERED": "1"}
-    proc = subprocess.Popen([sys.executable, "-m", "domes", "studio", "--home", str(home)], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
-    line = proc.stdout.readline()
-    found = re.search(r"http://127\.0\.0\.1:\d+", line)
-    if not found:
-        proc.kill()
-        raise AssertionError(f"domes studio did not say its address: {line}{proc.stdout.read()}")
-    yield found.group()
-    proc.terminate()
-    try:
-        proc.wait(10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+    """``domes studio`` on the test's data folder: its address."""
+    yield from studio_server(home)
 
 
 @pytest.fixture(scope="module")

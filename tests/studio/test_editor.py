@@ -16,6 +16,7 @@ from domes.motion import sweep
 from domes.motion.planar.examples import four_bar, parallelogram, triple_rocker
 from domes.motion.planar.query import Kinematics
 from domes.motion.spatial.examples import rssr
+from tests.shared import studio_server
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples" / "mechanisms"
 
@@ -39,35 +40,6 @@ def server(tmp_path_factory):
     """One ``domes studio`` for this module's page tests, started once (each test opens a page of its own; none
     writes to the data folder): its address."""
     yield from studio_server(tmp_path_factory.mktemp("home"))
-
-
-def studio_server(home: Path):
-    """``domes studio`` in a process of its own on a data folder with the shipped case base, as tests/studio's
-    ``server`` starts it: yields its address, then stops it."""
-    import os
-    import re
-    import shutil
-    import subprocess
-    import sys
-
-    from domes.io.resources import shipped_casebase
-
-    shutil.copyfile(shipped_casebase(), home / "casebase.db")
-    env = {name: value for name, value in os.environ.items() if name != "DOMES_DB"}
-    env.update(DOMES_HOME=str(home), PYTHONUNBUFFERED="1")
-    proc = subprocess.Popen([sys.executable, "-m", "domes", "studio", "--home", str(home)], env=env,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True)
-    line = proc.stdout.readline()
-    found = re.search(r"http://127\.0\.0\.1:\d+", line)
-    if not found:
-        proc.kill()
-        raise AssertionError(f"domes studio did not say its address: {line}{proc.stdout.read()}")
-    yield found.group()
-    proc.terminate()
-    try:
-        proc.wait(10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
 
 
 def solve(client, mech, **extra):

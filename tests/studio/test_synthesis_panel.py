@@ -16,8 +16,7 @@ import pytest
 
 from domes.model.mechanism import Mechanism
 from domes.motion.planar.batch import batch
-from tests.shared import shared_file
-from tests.studio.test_editor import studio_server
+from tests.shared import shared_file, studio_server
 
 #: Example 2 of seed 002 §2-3: four positions, the circle points on the lines x = -1 and x = 0.
 EXAMPLE_2 = [[1.0, 1.0, 0.0], [2.0, 0.5, 0.0], [3.0, 1.5, 45.0], [2.0, 2.0, 90.0]]
