@@ -218,16 +218,8 @@ class _Scalar:
                       for j in pair for k, pivot in enumerate((a0, b0))}
 
     def row(self, j, pivot, c, s):
-        """:func:`_rows`."""
-        p1x, p1y = self.P[0]
-        pjx, pjy = self.P[j]
-        gx, gy = pivot
-        nx = 2 * (c * (pjx - gx) + s * (pjy - gy) - p1x + gx)
-        ny = 2 * (-s * (pjx - gx) + c * (pjy - gy) - p1y + gy)
-        rp1x, rp1y = c * p1x - s * p1y, s * p1x + c * p1y
-        r = (2 * (gx * (pjx - rp1x) + gy * (pjy - rp1y)) - (pjx * pjx + pjy * pjy) - (p1x * p1x + p1y * p1y)
-             + 2 * (pjx * rp1x + pjy * rp1y))
-        return nx, ny, r
+        """:func:`_rows` on this task's points (Python floats)."""
+        return _rows(self.P, j, pivot, c, s)
 
     def pivot(self, pivot: int, c2, s2, c3, s3):
         """:func:`_pivot` (the two rows of :meth:`row` written out, with the sums that do not depend on the rotation
