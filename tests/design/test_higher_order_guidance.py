@@ -18,6 +18,7 @@ from domes.design.synthesis import sliders as sl
 from domes.errors import InputError
 from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism
 from domes.motion import solve
+from tests.sampling import FULL, allowed_misses, cases
 
 #: Mixed tasks of five "positions" (four conditions): one segment per input, its length the number of
 #: infinitesimally separated positions there (P: position, PP: + velocity, PPP: + acceleration).
@@ -236,11 +237,12 @@ def _slider_crank(rng):
 
 def test_sliders_of_mixed_tasks_recover_planted_slider_cranks():
     """A slider's pin is a circle point at infinity (digest A.3.1): its velocity and acceleration are along the
-    guide, (2-54), (2-55). For 30 planted slider-cranks: two conditions (PPP, PP-P) and the guide's direction give
+    guide, (2-54), (2-55). For 50 planted slider-cranks: two conditions (PPP, PP-P) and the guide's direction give
     the pin; three (PPP-P, PP-PP) give it among the slider points with the guide's direction; and the centre point
-    of the pin is at infinity (an InputError says so)."""
+    of the pin is at infinity (an InputError says so). (The first 24 of 50 by default, all with DOMES_FULL_TESTS=1:
+    tests/sampling.py.)"""
     rng = np.random.default_rng(55)
-    for n in range(30):
+    for n in range(cases(50)):
         mech, q1, C, psi = _slider_crank(rng)
         steps = [solve(mech, q1 + k * STEP, outputs=["angle:rod", "point:P"], order=2).values for k in range(2)]
 
@@ -410,10 +412,11 @@ def test_s_s_links_of_mixed_spatial_tasks():
     ä_j = A_j a_j): for 10 planted spherical motions, three conditions (PPP-P, PP-PP, P-P-PP, P-P-P-P) give the
     planted centre from the moving centre; six (PPP-PPP-P, PP-PP-PP-P: fewer than the seven finitely separated
     positions) give S-S links among which the planted one is. Each link keeps its length on the body's motion,
-    checked by central differences of the positions (independent of the velocity matrices)."""
+    checked by central differences of the positions (independent of the velocity matrices). Issue 29's 50 planted
+    cases (two tasks of six conditions on each of 25 motions) with DOMES_FULL_TESTS=1, 10 motions by default."""
     rng = np.random.default_rng(57)
-    hits = 0
-    for _ in range(10):
+    hits, motions = 0, 25 if FULL else 10
+    for _ in range(motions):
         a0, motion = _planted_ss(rng)
         a1 = motion(0)[6]
         for combo in ("PPP-P", "PP-PP", "P-P-PP", "P-P-P-P"):
@@ -435,7 +438,7 @@ def test_s_s_links_of_mixed_spatial_tasks():
                         assert abs(g(t + h) - g(t - h)) / (2 * h) < 1e-5 * max(1.0, r2)
                     if len(seg) >= 3:
                         assert abs(g(t + h) - 2 * g(t) + g(t - h)) / h ** 2 < 1e-4 * max(1.0, r2)
-    assert hits >= 19
+    assert hits >= 2 * motions - allowed_misses(2 * motions, 0.05)
 
 
 def test_s_s_bad_input():
