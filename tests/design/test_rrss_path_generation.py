@@ -10,7 +10,7 @@ import pytest
 from domes.design.synthesis import rrss
 from domes.design.synthesis.sphere import rot
 from domes.errors import InputError
-from tests.sampling import allowed_misses, cases
+from tests.sampling import FULL, allowed_misses, cases
 
 KEYS = ("u0x", "u0y", "u1x", "u1y", "a1x", "b0x", "b0y", "b0z")
 #: Table 2-3's free choices given from the planted RRSS: ``9 − n`` of the chain's, ``7 − n`` of the S-S link's
@@ -69,22 +69,26 @@ def planted(rng, n, span=15.0):
         return pts, truth
 
 
-def planted_rate(n, cases, seed):
+def planted_rate(n, cases, seed, every=False):
     """Solve ``cases`` planted problems; every solution meets the book's equations and the guiding links' check;
-    the planted RRSS, where found, is driven through every point by the spatial solver. Returns
-    ``(found, methods)``."""
+    the planted RRSS, where found, is driven through every point by the spatial solver. With ``every``, each
+    solution is driven by it (``check=True``): it meets the points on its branch (1e-8 of the size) or plainly
+    does not (the walk stops before a point, or the points are 1e-6 of the size away or more: another branch),
+    never in between. Returns ``(found, methods)``."""
     rng = np.random.default_rng(seed)
     found, methods = 0, set()
     for _ in range(cases):
         pts, truth = planted(rng, n)
-        r = rrss.rrss_path(pts, fixed={k: truth[k] for k in GIVEN[n]}, check=False)
+        r = rrss.rrss_path(pts, fixed={k: truth[k] for k in GIVEN[n]}, check=every)
         methods.add(r.method)
         size = max(1.0, float(np.max(np.linalg.norm(pts - pts.mean(0), axis=1))))
         for s in r:
             assert s.residual < 1e-9 and s.link_check < 1e-9
+            if every:
+                assert s.path_error <= 1e-8 or s.path_error >= 1e-6 or (math.isnan(s.path_error) and s.reach), s
         near = [s for s in r if s.distance(truth) <= 1e-6 * size]
         if near:
-            err, why = rrss.path_errors(near[0], pts)
+            err, why = (near[0].path_error, near[0].reach) if every else rrss.path_errors(near[0], pts)
             assert err <= 1e-8, why
             found += 1
     return found, methods
@@ -158,9 +162,11 @@ def test_planted_five_points():
     """Issue acceptance (seed 002 §2-3, Table 2-3 at n = 5: 6 givens): 50 random planted RRSS, five points of
     each one's own motion, the free choices from it; the planted RRSS is among the solutions in ≥ 95 % of cases
     and the spatial solver takes its coupler point through every point to 1e-8 of the size. (The first of the 50
-    by default, the same share allowed to miss; all with DOMES_FULL_TESTS=1: tests/sampling.py.)"""
+    by default, the same share allowed to miss; all with DOMES_FULL_TESTS=1: tests/sampling.py, which also
+    drives every solution by the spatial solver: measured 466 solutions, 263 through every point on their
+    branch, 141 on another branch, 62 stopped by a limit of the input before a point.)"""
     count = cases(50)
-    found, methods = planted_rate(5, count, seed=5)
+    found, methods = planted_rate(5, count, seed=5, every=FULL)
     assert methods == {"conic"}
     assert found >= count - allowed_misses(count, 0.04)          # 48 of 50
 
