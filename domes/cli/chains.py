@@ -31,7 +31,7 @@ COMMANDS = {
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from domes.typesynth.atlas import ISOMORPHISM_METHODS
+    from domes.typesynth.atlas import AUGMENT_LINKS, GENERATION_METHODS, ISOMORPHISM_METHODS
 
     p = sub.add_parser(
         "chains",
@@ -67,6 +67,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="nauty",
         help="duplicate removal: nauty (exact, default) or charpoly (the book's test; merges some chains)",
     )
+    p.add_argument("--method", choices=GENERATION_METHODS, default="auto",
+                   help="how chains without a cut link are generated: augment (canonical augmentation: independent "
+                   "parts, bounded memory on each worker), merge (level by level, children merged by certificate in "
+                   f"this process; every smaller atlas kept with --out) or auto (default: augment from {AUGMENT_LINKS} "
+                   "links on); the same atlas either way")
     p.add_argument("--yes", "-y", action="store_true",
                    help=f"build atlases of {LARGE_ATLAS_LINKS}+ links, or draw pages of more than {LARGE_PAGE} chains, without asking")
     p.add_argument("--out", metavar="FOLDER",
@@ -179,16 +184,30 @@ def run_chains(args: argparse.Namespace) -> int:
         _confirm_large(links, args.dof, args.include_fractionated, args.yes,
                        0 if args.scheduler or os.environ.get(SCHEDULER_VARIABLE) else args.workers or 1)
     rerun = None if job is None else f"run the same command again ({args.out} keeps every finished slice)"
+    if args.method == "augment" and args.isomorphism != "nauty":
+        raise InputError(f"--method augment keeps chains by nauty's canonical labelling (exact); --isomorphism "
+                         f"{args.isomorphism} is for --method merge: leave one of them out")
+    method = "merge" if args.isomorphism != "nauty" and args.method == "auto" else args.method
+    streamed = not args.include_fractionated and (args.count or job is not None or args.format == "graph6")
     with executor(args.workers, args.scheduler, rerun) as run:
         generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress),
-                                   executor=None if isinstance(run, InProcess) else run, checkpoints=job)
-        graphs = generator.chains(links, args.dof, args.include_fractionated)
+                                   executor=None if isinstance(run, InProcess) else run, checkpoints=job,
+                                   method=method)
+        if streamed:                                  # never held as graphs (see ChainGenerator.stream)
+            count, lines = generator.stream(links, args.dof)
+            if not args.count and job is None:
+                for line in lines:
+                    sys.stdout.write(line + "\n")
+                return 0
+        else:
+            graphs = generator.chains(links, args.dof, args.include_fractionated)
+            count = len(graphs)
     if args.count:
-        print(len(graphs))
+        print(count)
         return 0
     if job is not None:
         kind = "-with-cut-links" if args.include_fractionated else ""
-        print(f"{len(graphs)} chains of {links} links, DOF {args.dof}: {job.path / f'chains-n{links}-F{args.dof}{kind}.g6'}")
+        print(f"{count} chains of {links} links, DOF {args.dof}: {job.path / f'chains-n{links}-F{args.dof}{kind}.g6'}")
         return 0
     return _write_atlas(args, [Chain(n, edges) for n, edges in graphs], links, joints, loops)
 
