@@ -388,7 +388,8 @@ class Model:
                 ok &= ~np.broadcast_to(np.asarray(sign) == 0, (rows.shape[0], 1))
             root = (np.min([np.broadcast_to(r, shape) for r in pose.root.values()], axis=0) if pose.root
                     else np.ones(shape))
-            out = prog.outputs(geom, pose, prog.motion(geom, pose, 1))
+            # the links' angles are read only for an angle task: elsewhere they need not be made continuous
+            out = prog.outputs(geom, pose, prog.motion(geom, pose, 1), unwrap=task.quantity == "angle")
             length = None
             if self.slider and not self.guided:
                 a, b = self.ends
@@ -565,17 +566,50 @@ def _fit(model: Model, rng, screened: int, polish: int, clock: Ticker | None = N
     results = []
     for n, k in enumerate(order, 1):
         clock.tick(lambda: f"{where}: polishing layout {n} of {len(order)}")
-
-        def jac(p):
-            trial = np.vstack([p, p + h * np.eye(p.size)])
-            trial = np.clip(trial, lo, hi)
-            r = model.residuals(trial)
-            return ((r[1:] - r[0]) / (trial[1:] - trial[0]).sum(axis=1)[:, None]).T
-
-        fit = least_squares(lambda p: model.residuals(p)[0], rows[k], jac=jac, bounds=(lo, hi), x_scale="jac",
-                            max_nfev=200, xtol=1e-12, ftol=1e-12)
+        differences = _ForwardDifferences(model, lo, hi, h)
+        fit = least_squares(differences.residuals, rows[k], jac=differences.jacobian, bounds=(lo, hi),
+                            x_scale="jac", max_nfev=200, xtol=1e-12, ftol=1e-12)
         results.append(fit.x)
     return results
+
+
+class _ForwardDifferences:
+    """A layout's residuals and their Jacobian by forward differences (step ``h``, kept in the bounds), the
+    layout and its perturbed copies in one batch of the kernel.
+
+    A call of the kernel costs about the same for one layout as for a dozen (its fixed costs dominate), and
+    least squares asks for the Jacobian at the layouts whose residuals it asked for last: so each call for
+    residuals evaluates the perturbed layouts too, and the Jacobian at that layout reads them. The kernel works
+    layout by layout (elementwise), so the residuals of a layout are the same in any batch.
+
+    >>> import numpy as np
+    >>> class Line:  # residuals p0 + 2 p1 and p0 * p1 of each layout
+    ...     def residuals(self, rows):
+    ...         return np.c_[rows[:, 0] + 2 * rows[:, 1], rows[:, 0] * rows[:, 1]]
+    >>> d = _ForwardDifferences(Line(), np.zeros(2), np.full(2, 4.0), 1e-6)
+    >>> d.residuals(np.array([1.0, 3.0])).tolist()
+    [7.0, 3.0]
+    >>> np.round(d.jacobian(np.array([1.0, 3.0])), 6).tolist()
+    [[1.0, 2.0], [3.0, 1.0]]
+    """
+
+    def __init__(self, model, lo: np.ndarray, hi: np.ndarray, h: float):
+        self.model, self.lo, self.hi, self.h = model, lo, hi, h
+        self._at: bytes | None = None
+        self._batch = None
+
+    def _evaluate(self, p: np.ndarray):
+        trial = np.clip(np.vstack([p, p + self.h * np.eye(p.size)]), self.lo, self.hi)
+        return trial, self.model.residuals(trial)
+
+    def residuals(self, p: np.ndarray) -> np.ndarray:
+        self._batch = self._evaluate(p)
+        self._at = p.tobytes()
+        return self._batch[1][0].copy()
+
+    def jacobian(self, p: np.ndarray) -> np.ndarray:
+        trial, r = self._batch if self._at == p.tobytes() else self._evaluate(p)
+        return ((r[1:] - r[0]) / (trial[1:] - trial[0]).sum(axis=1)[:, None]).T
 
 
 def _verify(model: Model, cid: int, row: np.ndarray, name: str) -> Dimensioned:
