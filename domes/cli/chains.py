@@ -107,19 +107,24 @@ def _duration(seconds: float) -> str:
     return f"{seconds / 86400:.0f} days"
 
 
-def _confirm_large(links: int, dof: int, include_fractionated: bool, yes: bool, workers: int = 1) -> None:
+def _confirm_large(links: int, dof: int, include_fractionated: bool, yes: bool, workers: int = 1,
+                   method: str = "merge") -> None:
     """Say how large, long and memory-hungry the atlas will likely be, before it starts; go on if the user agrees."""
     from domes.typesynth.atlas import forecast
 
-    f = forecast(links, dof, include_fractionated)
+    f = (forecast(links, dof, include_fractionated) if method == "merge"
+         else forecast(links, dof, include_fractionated, method, max(workers, 1)))
     where = {0: "in one process (less on the cluster)", 1: "in this process"}.get(workers, f"on {workers} workers")
     text = (f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {f.count:.1e} chains ({f.basis}), "
             f"likely {_duration(f.seconds_on(max(workers, 1)))} {where} and {f.memory / 2**30:.1f} GiB of memory")
+    if f.work:
+        text += f" ({f.worker_memory / 2**30:.2f} GiB a worker)"
     available = available_memory()
     cores = os.cpu_count() or 1
     if available is not None and f.memory > available:
-        text += (f"; this machine has {available / 2**30:.1f} GiB available, so it will not fit (more workers do "
-                 "not help: the merge holds every chain in this process)")
+        text += f"; this machine has {available / 2**30:.1f} GiB available, so it will not fit"
+        if not f.work:
+            text += " (more workers do not help: the merge holds every chain in this process)"
     elif workers == 1 and cores > 1:
         text += f"; with --workers {cores}, likely {_duration(f.seconds_on(cores))}"
     confirm("chains", text, yes)
@@ -180,14 +185,14 @@ def run_chains(args: argparse.Namespace) -> int:
                              "standard output, leave one of them out")
         job = JobFolder(args.out, {"kind": "chain atlas", "isomorphism": args.isomorphism},
                         say=lambda text: print(f"domes chains: {text}", file=sys.stderr, flush=True))
-    if links >= LARGE_ATLAS_LINKS:
-        _confirm_large(links, args.dof, args.include_fractionated, args.yes,
-                       0 if args.scheduler or os.environ.get(SCHEDULER_VARIABLE) else args.workers or 1)
-    rerun = None if job is None else f"run the same command again ({args.out} keeps every finished slice)"
     if args.method == "augment" and args.isomorphism != "nauty":
         raise InputError(f"--method augment keeps chains by nauty's canonical labelling (exact); --isomorphism "
                          f"{args.isomorphism} is for --method merge: leave one of them out")
     method = "merge" if args.isomorphism != "nauty" and args.method == "auto" else args.method
+    if links >= LARGE_ATLAS_LINKS:
+        _confirm_large(links, args.dof, args.include_fractionated, args.yes,
+                       0 if args.scheduler or os.environ.get(SCHEDULER_VARIABLE) else args.workers or 1, method)
+    rerun = None if job is None else f"run the same command again ({args.out} keeps every finished slice)"
     streamed = not args.include_fractionated and (args.count or job is not None or args.format == "graph6")
     with executor(args.workers, args.scheduler, rerun) as run:
         generator = ChainGenerator(isomorphism=args.isomorphism, progress=progress_printer(args.progress),

@@ -457,7 +457,7 @@ class ChainGenerator:
 
         >>> count, lines = ChainGenerator(method="augment").stream(8, 1)
         >>> count, next(iter(lines))
-        (16, 'G?`F`{')
+        (16, 'G_GSZc')
         """
         graphs = None
         joints = chain_joints(links, dof)
@@ -746,9 +746,26 @@ FORECAST_LINKS = 12
 GROWTH_PER_TWO_LINKS = 30
 
 
+#: Forecasts of atlases made by augmentation walk this many of their parts, drawn at random, here ...
+FORECAST_PARTS = 6
+#: ... and add, per chain, the time this process takes to merge the parts' records and write the atlas, and the
+#: memory it holds (a record and its list entry; its graph6 line twice with --out), measured on 14 links ...
+MERGE_SECONDS_PER_CHAIN = 6e-6
+HELD_BYTES_PER_CHAIN = 130
+#: ... and, per process, its memory before any part (Python, numpy, nauty, a Dask worker) ...
+PROCESS_BYTES = 1.6e8
+#: ... and the imbalance of a local cluster: the busiest worker's work over the mean (14 links, 2 workers,
+#: benchmarks/scale_model.py).
+IMBALANCE = 1.1
+
+
 @dataclass(frozen=True)
 class Forecast:
-    """How large and how long an atlas is likely to be, before it is built: see :func:`forecast`."""
+    """How large and how long an atlas is likely to be, before it is built: see :func:`forecast`.
+
+    ``memory`` is the peak of all the processes of a run in one process; for an atlas made by augmentation,
+    ``work`` is the CPU time of its parts (split over the workers), ``serial`` the time that stays in this
+    process (the starts, the merge), and ``worker_memory`` the peak of one worker."""
 
     links: int
     dof: int
@@ -756,14 +773,61 @@ class Forecast:
     seconds: float
     memory: float
     basis: str
+    work: float = 0.0
+    serial: float = 0.0
+    worker_memory: float = 0.0
 
     def seconds_on(self, workers: int) -> float:
         """The likely time on ``workers`` workers of a local cluster (:data:`SERIAL_SHARE` stays serial)."""
+        if self.work:
+            return self.serial + self.work * (IMBALANCE / workers if workers > 1 else 1.0)
         return self.seconds * (SERIAL_SHARE + (1 - SERIAL_SHARE) / max(1, workers))
 
 
-def forecast(links: int, dof: int, include_fractionated: bool = False) -> Forecast:
+def augment_forecast(links: int, dof: int, workers: int = 1, sample: int = FORECAST_PARTS, seed: int = 0) -> Forecast:
+    """The likely size, time and memory of an atlas made by augmentation, from a few of its parts walked here.
+
+    The parts are independent and each holds its share of every kind of start
+    (:func:`~domes.typesynth.augment.plan`), so ``sample`` parts drawn at random
+    (``seed``), scaled by the number of parts, estimate the chains and the CPU
+    time of all; the merge and the memory held per chain are rates measured on
+    14 links (:data:`MERGE_SECONDS_PER_CHAIN`, :data:`HELD_BYTES_PER_CHAIN`).
+
+    >>> f = augment_forecast(12, 1, sample=4)              # 6856 chains in fact
+    >>> 3000 < f.count < 14000, f.basis.startswith("walked 4 of its")
+    (True, True)
+    """
+    import random
+
+    loops = chain_joints(links, dof) - links + 1
+    start = time.perf_counter()
+    starts, parts = augment.plan(loops, dof, workers)
+    planned = time.perf_counter() - start
+    picked = sorted(random.Random(seed).sample(range(parts), min(sample, parts)))
+    blob = pickle.dumps(starts, protocol=pickle.HIGHEST_PROTOCOL)
+    cpu, kept, biggest = 0.0, 0, 0
+    for i in picked:
+        clock = time.process_time()
+        _, stats = pickle.loads(augment.walk_part((blob, i, parts, loops, dof)))
+        cpu += time.process_time() - clock
+        kept += stats.kept
+        biggest = max(biggest, stats.kept)
+    scale = parts / len(picked)
+    count, work = kept * scale, cpu * scale
+    serial = planned + count * MERGE_SECONDS_PER_CHAIN
+    worker = PROCESS_BYTES + 4 * biggest * augment.record_width(links)
+    main = PROCESS_BYTES + count * HELD_BYTES_PER_CHAIN
+    basis = (f"walked {len(picked)} of its {parts} parts here ({kept:,} chains in {cpu:.1f} s of CPU), scaled by "
+             f"{scale:.1f}")
+    return Forecast(links, dof, count, serial + work, main + worker, basis, work, serial, worker)
+
+
+def forecast(links: int, dof: int, include_fractionated: bool = False, method: str = "merge",
+             workers: int = 1) -> Forecast:
     """The likely size, time (one process, this machine) and memory of an atlas, from smaller ones built now.
+
+    With ``method`` ``augment`` (or ``auto`` from :data:`AUGMENT_LINKS` links), an atlas without a cut link is
+    forecast from a few of its own parts instead (:func:`augment_forecast`, cut for ``workers``).
 
     The three largest atlases of the same parity up to :data:`FORECAST_LINKS`
     links are built (about two seconds); the count is extrapolated from
@@ -778,6 +842,8 @@ def forecast(links: int, dof: int, include_fractionated: bool = False) -> Foreca
     ('extrapolated from 2, 16, 230 chains of 6, 8, 10 links', True)
     """
     chain_joints(links, dof)                            # a clear error for a size no chain has
+    if not include_fractionated and dof >= 0 and (method == "augment" or (method == "auto" and links >= AUGMENT_LINKS)):
+        return augment_forecast(links, dof, workers)
     top = links - 2
     while top > FORECAST_LINKS:
         top -= 2

@@ -20,9 +20,9 @@ chains as fixed-width *records* (sort key, then graph6), sorted; records of
 slices are merged by :func:`merge_records` into the atlas's order (link
 assortment, most binary links first, then nauty's certificate).
 
->>> records, stats = descend([cycle(4)], loops=2, dof=1)
+>>> records, stats = descend([cycle(4)], loops=2, dof=1)      # the Watt and Stephenson chains
 >>> [graph6_of(r) for r in records], stats.kept
-(['ElOG'], 1)
+(['E_lo', 'E`dg'], 2)
 """
 
 from __future__ import annotations
@@ -416,11 +416,13 @@ def ear_is_free(n: int, deg: list[int], branches: list[Branch], mine: Branch) ->
     part of a branch only adds. So ``F`` is tabulated over the subsets of ``S`` (at most ``2**(2L − 4)``
     entries for ``L`` loops), not over all ``2**n`` sets of links.
 
-    >>> child = (5, ((0, 1), (1, 2), (2, 0), (0, 3), (3, 4), (4, 1)))   # a triangle and an ear: rigid
-    >>> adjm = [0b00110, 0b10101, 0b00011, 0b10001, 0b01010]
-    >>> deg = [3, 3, 2, 2, 2]
-    >>> ear_is_free(5, deg, _branches(5, adjm, deg), (0, 1, ()))
+    >>> parent = _Parent((5, ((0, 2), (2, 1), (0, 3), (3, 4), (4, 1))))     # a five-bar loop
+    >>> _, deg, _, branches, mine = parent.child(0, 1, 0)                   # a joint 0-1: a rigid triangle 0-1-2
+    >>> ear_is_free(5, deg, branches, mine)
     False
+    >>> _, deg, _, branches, mine = parent.child(2, 4, 1)                   # a link on 2 and 4: a four-bar loop
+    >>> ear_is_free(6, deg, branches, mine)
+    True
     """
     u, v = mine[0], mine[1]
     others = [x for x in range(n) if deg[x] >= 3 and x != u and x != v]
@@ -541,8 +543,11 @@ PARTS_PER_WORKER = 8
 def plan(loops: int, dof: int, workers: int = 1) -> tuple[list[Graph], int]:
     """The starts of the walks to the chains of ``loops`` loops and DOF ``dof`` (the chains
     :data:`START_LOOPS_BELOW` loops fewer on the way there, by canonical augmentation here) and how many parts
-    to cut them into: part ``i`` of ``p`` walks from ``starts[i::p]``, mixing small and large subtrees."""
+    to cut them into: part ``i`` of ``p`` walks from ``starts[i::p]``. The starts are sorted by DOF, whose
+    subtrees differ most, so that each part holds its share of every DOF: parts of similar size, and a few
+    parts drawn at random tell the size of the whole (:func:`~domes.typesynth.atlas.forecast`)."""
     starts = frontier(loops, dof, max(1, loops - START_LOOPS_BELOW))
+    starts.sort(key=lambda g: 3 * (g[0] - 1) - 2 * len(g[1]))      # by DOF (stable): every part gets its share
     parts = max(1, min(len(starts), max(PARTS_PER_WORKER * workers, -(-len(starts) // STARTS_PER_PART))))
     return starts, parts
 
