@@ -38,6 +38,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--layout", action="store_true",
                    help="also the tile layout (N, tile I's share) with the least folded perimeter, interference-free "
                    "folded, for the file's drum")
+    p.add_argument("--link-width", type=float, default=None, metavar="W",
+                   help="also check the tiles against the links, each a bar of half-width W about its joints "
+                   "(the file has no link widths), from folded to deployed")
     p.add_argument("--format", choices=("text", "json"), default="text", help="output format")
     p.set_defaults(func=run)
 
@@ -51,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
         if not (math.isfinite(args.lengthen) and 0 < args.lengthen <= 2):
             raise InputError(f"--lengthen must be a number in (0, 2], got {args.lengthen!r}")
         drum = dm.lengthen(drum, args.lengthen)
-    c = dm.check(drum)
+    c = dm.check(drum, link_width=args.link_width)
     layout = None
     if args.layout:
         layout = dm.layout_optimum(_design_of(drum))
@@ -61,6 +64,9 @@ def run(args: argparse.Namespace) -> int:
                "delta_min": c.delta.minimum, "pair": c.delta.pair.label, "input_deg": math.degrees(c.delta.input),
                "angles_deg": {k: math.degrees(v) for k, v in c.angles.items()}, "holding_torque": c.holding,
                "holding_share": c.holding_share, "failures": c.failures}
+        if c.links is not None:
+            out["links"] = {"half_width": c.link_width, "least_clearance": c.links.minimum, "pair": c.links.pair.label,
+                            "input_deg": math.degrees(c.links.input)}
         if layout is not None:
             out["layout"] = {"count": layout.count, "share": layout.share, "perimeter": layout.perimeter}
         print(json.dumps(out, indent=1))

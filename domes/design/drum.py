@@ -69,7 +69,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from domes.design import forces
-from domes.design.interference import Clearance, Pair, clearance, shapes_of
+from domes.design.interference import Clearance, Pair, Shape, clearance, shapes_of
 from domes.errors import InputError, NumericalError
 from domes.model.masses import Load, MassModel
 from domes.model.mechanism import CouplerPoint, Mechanism, Polygon
@@ -381,6 +381,46 @@ class Drum:
         lo, hi = self.stroke
         return clearance(self.mech, self.pairs(neighbours), lo, hi, step, shapes=self.shapes)
 
+    def link_shapes(self, width: float) -> dict:
+        """Each moving link as a bar: the convex hull of its joints (drawn pose) widened by ``width`` on every side
+        (16 offsets round each joint, so within ``width·(1 − cos(π/16))`` of the exact widening). The mechanism
+        file has no link widths; ``width`` is the designer's."""
+        from scipy.spatial import ConvexHull
+
+        if not (math.isfinite(width) and width > 0):
+            raise InputError(f"{self.mech.name}: the links' half-width must be a length > 0, got {width!r}")
+        if not width < 0.5 * self.size:
+            raise InputError(f"{self.mech.name}: the links' half-width {width:g} is not small beside the linkage "
+                             f"(its joints lie within {self.size:.6g} of the drum axis)")
+        turn = np.linspace(0.0, 2 * math.pi, 16, endpoint=False)
+        ring = width * np.stack([np.cos(turn), np.sin(turn)], axis=-1)
+        out = {}
+        for link in self.mech.links:
+            if link == self.mech.ground:
+                continue
+            cloud = (np.array([j.at for j in self.mech.joints_of(link)], float)[:, None, :] + ring).reshape(-1, 2)
+            out[f"link {link}"] = Shape.make(f"link {link}", link, [tuple(cloud[i]) for i in ConvexHull(cloud).vertices])
+        return out
+
+    def link_pairs(self, links) -> list[Pair]:
+        """Tiles against links: each tile against every moving link of its own copy but its carrier, and against
+        every moving link of the copies turned ±pitch about the axis."""
+        pitch = 2 * math.pi / self.count
+        out = []
+        for t in self.tiles:
+            for name, s in links.items():
+                if s.link != self.shapes[t].link:
+                    out.append(Pair(t, name))
+                out += [Pair(t, name, pitch, self.centre), Pair(t, name, -pitch, self.centre)]
+        return out
+
+    def link_clearance(self, width: float, step: float = math.radians(1.0)) -> Clearance:
+        """The least signed clearance of the tiles against the links (bars of half-width ``width``,
+        :meth:`link_shapes`) from folded to deployed."""
+        links = self.link_shapes(width)
+        lo, hi = self.stroke
+        return clearance(self.mech, self.link_pairs(links), lo, hi, step, shapes={**self.shapes, **links})
+
     def swept_diameter(self, step: float = math.radians(1.0)) -> float:
         """``D0``: twice the largest radius the tiles reach during deployment (samples, then refined)."""
         lo, hi = self.stroke
@@ -483,6 +523,8 @@ class DrumCheck(Result):
     holding_share: float
     deployed: float
     folded: float
+    links: Clearance | None = None
+    link_width: float | None = None
 
     @property
     def folding_ratio(self) -> float:
@@ -506,6 +548,9 @@ class DrumCheck(Result):
         if self.delta.minimum < -DELTA_TOL * self.outer:
             out.append(f"interference: Δ_min = {self.delta.minimum:.6g} between {self.delta.pair.label} at input "
                        f"{math.degrees(self.delta.input):.6g}°")
+        if self.links is not None and self.links.minimum < -DELTA_TOL * self.outer:
+            out.append(f"tiles against links (half-width {self.link_width:g}): clearance {self.links.minimum:.6g} "
+                       f"between {self.links.pair.label} at input {math.degrees(self.links.input):.6g}°")
         if self.holding_share > HOLD_SHARE:
             out.append(f"anti-retraction: holding torque {self.holding_share:.3g} of load × radius, more than "
                        f"{HOLD_SHARE:g}")
@@ -522,11 +567,16 @@ class DrumCheck(Result):
                 f"{self.folded_diameter:.6g} (D1/Df = {self.folding_ratio:.4f}); Δ_min = {self.delta.minimum:.6g} "
                 f"({self.delta.pair.label} at {math.degrees(self.delta.input):.6g}°); D0/D1 = {self.d0_d1:.4f}; "
                 f"α1, β1 = {a}; holding torque {self.holding:.4g} ({self.holding_share:.3g} of load × radius)")
+        if self.links is not None:
+            head += (f"; tiles against links (half-width {self.link_width:g}): least clearance "
+                     f"{self.links.minimum:.6g} ({self.links.pair.label} at {math.degrees(self.links.input):.6g}°)")
         return head + ("" if self.success else "; fails: " + "; ".join(self.failures))
 
 
-def check(drum: Drum, bead: float | None = None, step: float = math.radians(1.0)) -> DrumCheck:
-    """Run every drum check on ``drum``; ``bead`` the bead diameter (default ``D1``)."""
+def check(drum: Drum, bead: float | None = None, step: float = math.radians(1.0),
+          link_width: float | None = None) -> DrumCheck:
+    """Run every drum check on ``drum``; ``bead`` the bead diameter (default ``D1``); with ``link_width``, also the
+    tiles against the links as bars of that half-width (:meth:`Drum.link_clearance`)."""
     w = drum.world(drum.deployed)
     r = np.concatenate([drum.radii(v) for v in w.values()])
     inner, outer = float(r.min()), float(r.max())
@@ -536,7 +586,8 @@ def check(drum: Drum, bead: float | None = None, step: float = math.radians(1.0)
     tau, share = drum.holding_torque()
     return DrumCheck(drum.mech.name, drum.count, inner, outer, drum.cylinder_residual(drum.deployed), gap,
                      2 * drum.envelope(drum.folded), 2 * inner if bead is None else bead, delta,
-                     drum.swept_diameter(step), angles, tau, share, drum.deployed, drum.folded)
+                     drum.swept_diameter(step), angles, tau, share, drum.deployed, drum.folded,
+                     None if link_width is None else drum.link_clearance(link_width, step), link_width)
 
 
 # -- a drum design: the free dimensions on a given linkage -------------------------------------------------------

@@ -291,3 +291,44 @@ def test_regenerated_candidates_reach_delta_min_zero_on_each_chain():
     drum = row.design.drum()
     lo, hi = drum.stroke
     assert max(drum.radii(drum.joints_world(q)).max() for q in np.linspace(lo, hi, 25)) < c.inner
+
+
+def _point_segment(p, s, e):
+    """Distances of points ``p`` (..., 2) from segments ``s``–``e`` (..., 2)."""
+    d = e - s
+    t = np.clip(np.sum((p - s) * d, axis=-1) / np.sum(d * d, axis=-1), 0.0, 1.0)
+    return np.hypot(*np.moveaxis(p - s - t[..., None] * d, -1, 0))
+
+
+def test_tiles_against_links_over_the_stroke():
+    """Item 1's continuous interference of tiles and links: the links as bars about their centre lines. For
+    the Fig. 5-1 drum the closest is tile I against the neighbouring copy's link DC just after folded; the
+    least clearance of bars of half-width w equals the least distance of the tile from that centre line,
+    brute force over a dense 0.05° sampling of the stroke (every tile vertex against the segment, both ends
+    against every tile edge), less w (to the bar's 16-gon rounding, w(1 − cos(π/16))). Bars of half-width 0.005
+    interfere: the check fails and names the pair and the input."""
+    lo, hi = DRUM.stroke
+    n = int(math.degrees(hi - lo) * 20)
+    qs = np.linspace(lo, hi, n + 1)
+    sw = sweep(DRUM.mech, lo, hi, (hi - lo) / n, outputs=["point:D", "point:C"])
+    assert sw.inputs.size == n + 1
+    pitch, c = 2 * math.pi / DRUM.count, np.asarray(DRUM.centre)
+    turn = np.array([[math.cos(pitch), -math.sin(pitch)], [math.sin(pitch), math.cos(pitch)]])
+    d, e = ((np.stack([sw.table[f"point:{j}.x"], sw.table[f"point:{j}.y"]], -1) - c) @ turn.T + c for j in "DC")
+    tile = DRUM.world(qs)["tile I"]                                          # (T, k, 2)
+    dist = _point_segment(tile, d[:, None], e[:, None]).min(axis=1)
+    edges = np.roll(tile, -1, axis=1)
+    for end in (d, e):
+        dist = np.minimum(dist, _point_segment(end[:, None], tile, edges).min(axis=1))
+    k = int(np.argmin(dist))
+    w = 1e-4
+    r = DRUM.link_clearance(w)
+    assert r.pair.label == "tile I / link DC turned +30°"
+    assert r.minimum == pytest.approx(dist[k] - w, abs=w * (1 - math.cos(math.pi / 16)) + 1e-7)
+    assert abs(r.input - qs[k]) < math.radians(0.1) and 0 < r.input - DRUM.folded < math.radians(10)
+    assert r.minimum > 0                                      # thin bars clear the tiles: Fig. 5-1 passes
+    thick = dm.check(DRUM, link_width=0.005)
+    assert not thick.success and thick.links.minimum < -1e-3
+    assert "tiles against links (half-width 0.005)" in thick.message and "tile I / link DC turned +30°" in thick.message
+    with pytest.raises(InputError, match="half-width must be a length > 0"):
+        DRUM.link_clearance(0.0)
