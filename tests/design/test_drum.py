@@ -332,3 +332,51 @@ def test_tiles_against_links_over_the_stroke():
     assert "tiles against links (half-width 0.005)" in thick.message and "tile I / link DC turned +30°" in thick.message
     with pytest.raises(InputError, match="half-width must be a length > 0"):
         DRUM.link_clearance(0.0)
+
+
+def _hull_perimeter(points) -> float:
+    """Perimeter of the convex hull by Andrew's monotone chain."""
+    pts = sorted(map(tuple, np.round(np.asarray(points, float), 15)))
+
+    def half(seq):
+        out = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    hull = half(pts)[:-1] + half(pts[::-1])[:-1]
+    return sum(math.dist(hull[i], hull[(i + 1) % len(hull)]) for i in range(len(hull)))
+
+
+def test_layout_optimum_is_the_least_folded_perimeter_without_interference():
+    """§3-8 step 1's layout (our reading, docs/drum.md): on a small grid of tile counts and shares, each
+    layout's folded perimeter equals the perimeter of the hull of all N copies' folded tiles (monotone chain,
+    written here), its folded clearance is ≥ 0 exactly when no two tiles overlap (edge crossings and point in
+    polygon, written here), and the optimum is the least perimeter among those."""
+    from domes.cli.drum import _design_of
+
+    design = _design_of(DRUM)
+    best = dm.layout_optimum(design, counts=(10, 12, 14), shares=(0.3, 0.4))
+    assert len(best.table) == 9 and best.success
+    free = []
+    for n, share, perimeter, gap in best.table:
+        drum = design.with_(count=n, share=share).drum()
+        w = drum.world(drum.folded)
+        c = np.asarray(drum.centre)
+        copies = []
+        for k in range(n):
+            t = 2 * math.pi * k / n
+            rot = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
+            copies.append({name: (v - c) @ rot.T + c for name, v in w.items()})
+        assert perimeter == pytest.approx(_hull_perimeter(np.concatenate([v for cp in copies for v in cp.values()])),
+                                          rel=1e-12)
+        polys = [v.tolist() for v in copies[0].values()] + [v.tolist() for v in copies[1].values()] \
+            + [v.tolist() for v in copies[-1].values()]
+        clash = any(overlap(polys[i], polys[j]) for i in range(2) for j in range(i + 1, len(polys)))
+        assert (gap < 0) == clash, (n, share, gap)
+        if not clash:
+            free.append((perimeter, n, share))
+    assert (best.perimeter, best.count, best.share) == min(free)
