@@ -747,7 +747,7 @@ GROWTH_PER_TWO_LINKS = 30
 
 
 #: Forecasts of atlases made by augmentation walk this many of their parts, drawn at random, here ...
-FORECAST_PARTS = 6
+FORECAST_PARTS = 4
 #: ... and add, per chain, the time this process takes to merge the parts' records and write the atlas, and the
 #: memory it holds (a record and its list entry; its graph6 line twice with --out), measured on 14 links ...
 MERGE_SECONDS_PER_CHAIN = 6e-6
@@ -800,9 +800,9 @@ def augment_forecast(links: int, dof: int, workers: int = 1, sample: int = FOREC
     import random
 
     loops = chain_joints(links, dof) - links + 1
-    start = time.perf_counter()
+    start = time.process_time()
     starts, parts = augment.plan(loops, dof, workers)
-    planned = time.perf_counter() - start
+    planned = time.process_time() - start
     picked = sorted(random.Random(seed).sample(range(parts), min(sample, parts)))
     blob = pickle.dumps(starts, protocol=pickle.HIGHEST_PROTOCOL)
     cpu, kept, biggest = 0.0, 0, 0

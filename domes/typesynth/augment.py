@@ -533,20 +533,23 @@ def merge_records(parts) -> heapq.merge:
     return heapq.merge(*parts)
 
 
-#: The walks start this many loops above the target (each start an independent walk), ...
-START_LOOPS_BELOW = 3
-#: ... about this many starts to a part (a task, and a file of a job folder), and at least this many parts a worker.
-STARTS_PER_PART = 20
+#: The walks start from the chains of this many loops (or two fewer than the target): 16,147 starts for 14
+#: links, DOF 1, made here in seconds ...
+START_LOOPS = 4
+#: ... about this many starts to a part (a task, and a file of a job folder), and at least this many parts a
+#: worker. Many starts a part make parts of similar cost, and a few of them a fair sample of the whole.
+STARTS_PER_PART = 250
 PARTS_PER_WORKER = 8
 
 
 def plan(loops: int, dof: int, workers: int = 1) -> tuple[list[Graph], int]:
-    """The starts of the walks to the chains of ``loops`` loops and DOF ``dof`` (the chains
-    :data:`START_LOOPS_BELOW` loops fewer on the way there, by canonical augmentation here) and how many parts
+    """The starts of the walks to the chains of ``loops`` loops and DOF ``dof`` (the chains of
+    :data:`START_LOOPS` loops, or two fewer than the target, on the way there, by canonical augmentation here)
+    and how many parts
     to cut them into: part ``i`` of ``p`` walks from ``starts[i::p]``. The starts are sorted by DOF, whose
     subtrees differ most, so that each part holds its share of every DOF: parts of similar size, and a few
     parts drawn at random tell the size of the whole (:func:`~domes.typesynth.atlas.forecast`)."""
-    starts = frontier(loops, dof, max(1, loops - START_LOOPS_BELOW))
+    starts = frontier(loops, dof, max(1, min(loops - 2, START_LOOPS)))
     starts.sort(key=lambda g: 3 * (g[0] - 1) - 2 * len(g[1]))      # by DOF (stable): every part gets its share
     parts = max(1, min(len(starts), max(PARTS_PER_WORKER * workers, -(-len(starts) // STARTS_PER_PART))))
     return starts, parts
