@@ -1,0 +1,203 @@
+"""Parameter homotopy tracked in batch: every path a row of one array, stepped together (Sommese & Wampler 2005).
+
+:func:`track` follows the solutions of ``F(z; p) = 0`` (a system with ``residual``, ``solve``, ``param_rate``:
+:class:`~domes.design.synthesis.isotropic.DyadSystem`) while ``p`` moves from ``p0`` to ``p1`` along
+``p0 + s (p1 − p0)``, ``s = t / (t + γ (1 − t))``: for a random complex ``γ`` (the gamma trick) the arc misses,
+with probability one, the parameters where two solutions meet. Each path has its own step in ``t``: a fourth-order
+Runge-Kutta predictor on ``dz/dt = −J⁻¹ ∂F/∂p dp/dt``, two Newton corrections, the step accepted when the first
+correction (the predictor's error) is within :data:`TRACK_TOL` of the size and the second contracts; the next
+step aims the predictor's error (of order ``h⁵``) at half the tolerance, between half and twice the last step. A path whose coordinates pass :data:`DIVERGED` goes to infinity; one whose
+step falls below ``hmin`` fails. :func:`refine` polishes the end points by Newton. :func:`monodromy` fills a
+solution set from one solution by loops in parameter space.
+
+>>> import numpy as np
+>>> from domes.design.synthesis.isotropic import DyadSystem, plant
+>>> sys = DyadSystem(4, pivots_given=True)
+>>> z0, p0 = plant(sys, np.random.default_rng(0))
+>>> p1 = p0 + 0.3 * np.random.default_rng(1).normal(size=p0.shape)
+>>> end = track(sys, z0, p0, p1, gamma=0.6 + 0.8j)
+>>> end.status.tolist(), float(np.abs(sys.residual(end.z, p1)).max()) < 1e-12
+([1], True)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Largest first Newton correction of an accepted step, relative to ``1 + |z|``.
+TRACK_TOL = 1e-5
+#: A path whose coordinates grow beyond this goes to infinity.
+DIVERGED = 1e8
+#: Path status codes.
+RUNNING, DONE, FAILED, INFINITE = 0, 1, 2, 3
+
+
+@dataclass
+class Tracked:
+    """End points ``z`` (N, m), ``status`` (:data:`DONE`, :data:`FAILED`, :data:`INFINITE`), ``steps`` and
+    the path variable ``t`` reached (1 when done)."""
+
+    z: np.ndarray
+    status: np.ndarray
+    steps: np.ndarray
+    t: np.ndarray
+
+
+def norm(v):
+    return np.sqrt((v.real ** 2 + v.imag ** 2).sum(axis=1))
+
+
+def track(system, z0, p0, p1, gamma: complex = 1.0, h0: float = 0.02, hmax: float = 0.1, hmin: float = 1e-9,
+          max_rounds: int = 20000, tol: float = TRACK_TOL) -> Tracked:
+    """Track the rows of ``z0`` (solutions at ``p0``) to ``p1`` (``p0``, ``p1``: one row or one per path);
+    ``tol``: the largest predictor error of an accepted step, relative to ``1 + |z|``."""
+    z = np.array(z0, complex)
+    N = len(z)
+    p0 = np.broadcast_to(np.asarray(p0, complex), (N, system.q))
+    dp = np.broadcast_to(np.asarray(p1, complex), (N, system.q)) - p0
+    t = np.zeros(N)
+    h = np.full(N, h0)
+    steps = np.zeros(N, int)
+    status = np.full(N, RUNNING)
+
+    def params(i, tt):
+        s = tt / (tt + gamma * (1 - tt))
+        return p0[i] + s[:, None] * dp[i]
+
+    def velocity(i, zz, tt):
+        rate = gamma / (tt + gamma * (1 - tt)) ** 2
+        pp = params(i, tt)
+        return pp, -system.solve(zz, pp, system.param_rate(zz, pp, dp[i] * rate[:, None]))
+
+    for _ in range(max_rounds):
+        i = np.flatnonzero(status == RUNNING)
+        if i.size == 0:
+            break
+        zi, ti = z[i], t[i]
+        hh = np.minimum(h[i], 1 - ti)
+        with np.errstate(all="ignore"):
+            _, k1 = velocity(i, zi, ti)
+            _, k2 = velocity(i, zi + 0.5 * hh[:, None] * k1, ti + 0.5 * hh)
+            _, k3 = velocity(i, zi + 0.5 * hh[:, None] * k2, ti + 0.5 * hh)
+            pn, k4 = velocity(i, zi + hh[:, None] * k3, ti + hh)
+            zp = zi + hh[:, None] / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+            d1 = system.solve(zp, pn, system.residual(zp, pn))
+            z1 = zp - d1
+            d2 = system.solve(z1, pn, system.residual(z1, pn))
+            z2 = z1 - d2
+            scale = 1 + norm(zi)
+            n1, n2 = norm(d1), norm(d2)
+        # accepted: the predictor within the tolerance and Newton contracting (or already at round-off)
+        ok = (np.isfinite(n1) & np.isfinite(n2) & (n1 < tol * scale)
+              & ((n2 < 0.1 * n1) | (n1 < 1e-10 * scale)))
+        good, bad = i[ok], i[~ok]
+        z[good] = z2[ok]
+        t[good] = np.where(hh[ok] >= 1 - ti[ok], 1.0, ti[ok] + hh[ok])
+        steps[i] += 1
+        # the first correction is the predictor's error, of order h⁵: aim the next step at TRACK_TOL / 2
+        with np.errstate(all="ignore"):
+            factor = np.nan_to_num(0.8 * (0.5 * tol * scale / n1) ** 0.2, nan=0.5, posinf=2.0)
+        h[good] = np.minimum(hh[ok] * np.clip(factor[ok], 0.5, 2.0), hmax)
+        h[bad] = hh[~ok] * np.clip(factor[~ok], 0.1, 0.5)
+        status[good[t[good] >= 1.0]] = DONE
+        status[bad[h[bad] < hmin]] = FAILED
+        status[i[(norm(z[i]) > DIVERGED) | ~np.isfinite(norm(z[i]))]] = INFINITE
+    status[status == RUNNING] = FAILED
+    return Tracked(z, status, steps, t)
+
+
+def refine(system, z, p, iterations: int = 8):
+    """Newton's method at ``p`` from the rows of ``z``, until the correction is at round-off (``1e-14`` of
+    ``1 + |z|``) or ``iterations``: ``(z, residual norm, last correction norm)``."""
+    z = np.array(z, complex)
+    p = np.broadcast_to(np.asarray(p, complex), (len(z), system.q))
+    last = np.full(len(z), np.inf)
+    todo = np.arange(len(z))
+    with np.errstate(all="ignore"):
+        for _ in range(iterations):
+            d = system.solve(z[todo], p[todo], system.residual(z[todo], p[todo]))
+            d[~np.isfinite(d).all(axis=1)] = 0
+            z[todo] -= d
+            last[todo] = norm(d)
+            todo = todo[last[todo] > 1e-14 * (1 + norm(z[todo]))]
+            if not len(todo):
+                break
+        return z, norm(system.residual(z, p)), last
+
+
+def condition(system, z, p):
+    """The 2-norm condition number of each row's Jacobian, its columns scaled by ``1 + |z_k|`` and its rows then
+    to unit length (a linkage with pivots far out is not thereby ill-conditioned)."""
+    p = np.broadcast_to(np.asarray(p, complex), (len(z), system.q))
+    with np.errstate(all="ignore"):
+        J = system.jacobian(z, p) * (1 + np.abs(z))[:, None, :]
+        J /= np.linalg.norm(J, axis=2, keepdims=True)
+        return np.linalg.cond(J)
+
+
+def twins(keys, tol: float = 1e-6) -> list[tuple[int, int]]:
+    """The pairs ``(i, j)``, ``i < j``, of rows of ``keys`` (N, k complex) within ``tol`` of each other (each row
+    scaled by ``1 + `` its largest entry)."""
+    from scipy.spatial import cKDTree
+
+    K = np.asarray(keys)
+    if not len(K):
+        return []
+    X = np.concatenate([K.real, K.imag], axis=1) / (1 + np.abs(K).max(axis=1, keepdims=True))
+    return sorted(cKDTree(X).query_pairs(tol))
+
+
+def distinct(keys, tol: float = 1e-6):
+    """Indices of the rows of ``keys`` (N, k complex) that are not within ``tol`` (relative) of an earlier row."""
+    keep = np.ones(len(keys), bool)
+    for a, b in twins(keys, tol):
+        if keep[a]:
+            keep[b] = False
+    return np.flatnonzero(keep)
+
+
+def monodromy(system, z, p, key, target: int, rng, loops: int = 3, batch: int = 2000, max_rounds: int = 400,
+              progress=None):
+    """Solutions at ``p`` (one row) found from those in ``z`` by tracking them around loops ``p → p1 → p2 → p``
+    (``p1``, ``p2`` random complex): a loop permutes the solutions, so new ones turn up until all ``target`` are
+    known. ``key(z, p)`` names a solution's class (rows equal within 1e-6 are one); one solution per class is
+    kept. Stops at ``target`` classes or when every class has been around every loop (then one more loop is
+    drawn, up to ``max_rounds`` batches). Returns the class representatives (M, m)."""
+    p = np.asarray(p, complex).reshape(1, -1)
+    scale = np.abs(p).mean()
+
+    def draw():
+        return scale * (rng.normal(size=(2, system.q)) + 1j * rng.normal(size=(2, system.q))) / np.sqrt(2)
+
+    legs = [draw() for _ in range(loops)]
+    reps = np.array(z, complex)
+    keys = key(reps, p)
+    pending = [(r, k) for r in range(len(reps)) for k in range(len(legs))]
+    for _ in range(max_rounds):
+        if len(reps) >= target:
+            break
+        if not pending:
+            legs.append(draw())
+            pending = [(r, len(legs) - 1) for r in range(len(reps))]
+        work, pending = pending[:batch], pending[batch:]
+        r = np.array([w[0] for w in work])
+        loop = np.array([legs[w[1]] for w in work])
+        zz, alive = reps[r], np.ones(len(work), bool)
+        for a, b in ((p.repeat(len(work), 0), loop[:, 0]), (loop[:, 0], loop[:, 1]), (loop[:, 1], p.repeat(len(work), 0))):
+            end = track(system, zz, a, b)
+            zz, alive = end.z, alive & (end.status == DONE)
+        zz, res, _ = refine(system, zz[alive], p)
+        zz = zz[res < 1e-9 * (1 + norm(zz))]
+        if len(zz):
+            both = np.concatenate([keys, key(zz, p)])
+            new = [i - len(keys) for i in distinct(both) if i >= len(keys)]
+            if new:
+                first = len(reps)
+                reps = np.concatenate([reps, zz[new]])
+                keys = np.concatenate([keys, both[len(keys):][new]])
+                pending += [(i, k) for i in range(first, len(reps)) for k in range(len(legs))]
+        if progress:
+            progress(len(reps), len(pending), len(legs))
+    return reps

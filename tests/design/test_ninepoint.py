@@ -1,0 +1,152 @@
+"""Nine-point path synthesis by parameter homotopy (issue 27, item 4) and Morgan & Wampler's five-point Problem 7."""
+
+import math
+
+import numpy as np
+import pytest
+
+from domes.design.synthesis import homotopy as hc
+from domes.design.synthesis.fivepoint import PROBLEM_7, five_point_pivots
+from domes.design.synthesis.fourbars import check
+from domes.design.synthesis.isotropic import DyadSystem, plant
+from domes.design.synthesis.ninepoint import (
+    CLASSES,
+    certify,
+    check_points,
+    class_key,
+    is_real,
+    nine_point_path,
+    orbit,
+    real_fourbar,
+    start_set,
+)
+from domes.design.synthesis.pathfit import crank_rocker_path
+from domes.design.synthesis.verify import curve_distances
+from domes.errors import InputError
+from tests.sampling import FULL
+
+
+@pytest.mark.parametrize("system", [DyadSystem(8), DyadSystem(4, pivots_given=True)], ids=["nine", "five"])
+def test_the_bordered_newton_step_is_the_dense_one(system):
+    """The step that eliminates each position's rotations equals a dense solve with a finite-difference
+    Jacobian."""
+    rng = np.random.default_rng(4)
+    z, p = plant(system, rng)
+    z = z + 0.01 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape))
+    J = np.empty((system.m, system.m), complex)
+    for k in range(system.m):
+        e = np.zeros_like(z)
+        e[0, k] = 1e-7
+        J[:, k] = (system.residual(z + e, p) - system.residual(z - e, p))[0] / 2e-7
+    rhs = system.residual(z, p)
+    assert np.allclose(system.solve(z, p, rhs)[0], np.linalg.solve(J, rhs[0]), rtol=1e-5, atol=1e-7)
+    assert np.allclose(system.jacobian(z, p)[0], J, atol=1e-6)
+
+
+def _isotropic(P, a0, b0, A, B):
+    """A real four-bar's isotropic coordinates (points scaled by the bounding box, from point 1) and parameters."""
+    c = P[:, 0] + 1j * P[:, 1]
+    size = float(np.ptp(P, axis=0).max())
+    x, y = (complex(*A[0]) - c[0]) / size, (complex(*B[0]) - c[0]) / size
+    a, b = (complex(*a0) - c[0]) / size, (complex(*b0) - c[0]) / size
+    th = np.array([(complex(*A[j]) - complex(*B[j])) / (complex(*A[0]) - complex(*B[0])) for j in range(1, 9)])
+    z = np.concatenate([[x, x.conjugate(), a, a.conjugate(), y, y.conjugate(), b, b.conjugate()], th, th.conj()])
+    d = (c[1:] - c[0]) / size
+    return z[None], np.concatenate([d, d.conj()])[None], size
+
+
+def test_the_six_members_of_a_class_trace_the_same_curve():
+    """Roberts' cognates and the relabelled linkage, made by :func:`orbit`, are solutions and real four-bars (every
+    link keeps its length through the nine positions), and the kernel draws the coupler curve of each usable one
+    (the crank-rocker the points came from, generated without the kernel, and its crank-rocker cognate) through
+    the nine points."""
+    P, a0, b0, A, B, _ = crank_rocker_path(np.random.default_rng(11), 9)
+    z, p, size = _isotropic(P, a0, b0, A, B)
+    system = DyadSystem(8)
+    keys, usable = [], 0
+    for w in orbit(z, p):
+        assert np.abs(system.residual(w, p)).max() < 1e-12
+        assert is_real(w[0])
+        keys.append(class_key(w, p))
+        fb, AA, BB = real_fourbar(w[0], P, size)
+        AA, BB = np.array(AA), np.array(BB)
+        for link in (AA - fb.a0, BB - fb.b0, BB - AA, P - AA):
+            length = np.linalg.norm(link, axis=1)
+            assert np.ptp(length) < 1e-12 * size
+        if not check(fb, AA, BB).defects:
+            usable += 1
+            assert max(curve_distances(fb, P)) < 1e-9 * size
+    assert usable == 2
+    assert np.abs(np.concatenate(keys) - keys[0]).max() < 1e-12
+
+
+def test_morgan_wampler_problem_7():
+    """Morgan & Wampler (1990), Problem 7: five points in line, pivots (0, 0) and (1, 0): 33 solutions, 15 real
+    (as the paper reports; the phcpy documentation's use case of it repeats the counts)."""
+    r = five_point_pivots(PROBLEM_7, (0.0, 0.0), (1.0, 0.0))
+    assert (len(r.solutions), len(r.real), r.infinite) == (33, 15, 3)
+    assert all(s.residual < 1e-12 and s.condition < 1e10 for s in r.solutions)
+    assert r.success and "33 finite solution(s)" in r.message
+
+
+def _query(P):
+    size = float(np.ptp(P, axis=0).max())
+    rel = (P - P[0]) / size
+    d = rel[1:, 0] + 1j * rel[1:, 1]
+    return np.concatenate([d, d.conj()])[None]
+
+
+def test_tracked_paths_end_on_distinct_certified_classes():
+    """A sample of the stored start paths tracked to nine random points: each ends on a solution (its residual,
+    as a distance, at round-off), nonsingular, the classes distinct, and the six members of each solutions too."""
+    data = start_set()
+    system = DyadSystem(8)
+    rng = np.random.default_rng(2)
+    p1 = _query(rng.uniform(0, 1, (9, 2)))
+    pick = rng.choice(len(data["nine_z"]), 20, replace=False)
+    end = hc.track(system, data["nine_z"][pick], data["nine_p"][None], p1, gamma=np.exp(0.4j))
+    z = hc.refine(system, end.z[end.status == hc.DONE], p1)[0]
+    pp = np.broadcast_to(p1, (len(z), system.q))
+    assert len(z) >= 19
+    res, cond = certify(system, z, p1)
+    assert res.max() < 1e-12 and cond.max() < 1e12
+    assert len(hc.distinct(class_key(z, pp))) == len(z)
+    for w in orbit(z, pp):
+        assert certify(system, hc.refine(system, w, pp)[0], p1)[0].max() < 1e-10
+
+
+@pytest.mark.skipif(not FULL, reason="one full query, about a minute: DOMES_FULL_TESTS=1")
+def test_nine_points_of_a_crank_rocker():
+    """Nearly every class is found (1,442 for generic points; this one has a class whose every member lies beyond
+    10⁴ sizes, where the affine tracker fails) and the crank-rocker the points came from is among the usable
+    solutions; every solution meets the equations and is nonsingular."""
+    P, a0, b0, A, B, _ = crank_rocker_path(np.random.default_rng(5), 9)
+    r = nine_point_path(P, passes=2)
+    assert len(r.classes) >= CLASSES - 1
+    assert len(r.solutions) == 6 * len(r.classes)
+    assert max(s.residual for s in r.solutions) < 1e-9
+    size = r.size
+    planted = [s for s in r.usable if math.dist(s.fourbar.a0, a0) < 1e-8 * size and
+               math.dist(s.fourbar.b0, b0) < 1e-8 * size and math.dist(s.fourbar.a1, A[0]) < 1e-8 * size]
+    assert len(planted) == 1 and max(planted[0].distances) < 1e-8 * size
+    assert all(max(s.distances) < 1e-8 * size for s in r.usable)
+
+
+def test_the_start_set_is_generic():
+    """The stored start solutions are distinct classes, nonsingular, and solutions at the stored parameters."""
+    data = start_set()
+    system = DyadSystem(8)
+    z, p = data["nine_z"], np.broadcast_to(data["nine_p"], (len(data["nine_z"]), system.q))
+    assert len(z) == CLASSES and len(hc.distinct(class_key(z, p))) == CLASSES
+    assert hc.norm(system.residual(z, p)).max() < 1e-10
+    assert hc.condition(system, z[:50], p[:50]).max() < 1e12
+
+
+@pytest.mark.parametrize("points, what", [
+    ([(0, 0)] * 2, "expected 9 points"),
+    ([(k, k * k) for k in range(8)] + [(float("nan"), 0)], "point 9 is not finite"),
+    ([(k, k * k) for k in range(8)] + [(3, 9)], "points 4 and 9 coincide"),
+])
+def test_bad_points_are_refused(points, what):
+    with pytest.raises(InputError, match=what):
+        check_points(points)
