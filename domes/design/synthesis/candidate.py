@@ -31,8 +31,9 @@ mechanism must move through beyond the last sample where the curve counts
 ``box``: it screens many random layouts at once with the compiled kernel
 (:mod:`domes.motion.planar.kernel`: closed-form dyads on arrays, the
 rates analytic), polishes the best by ``scipy.optimize.least_squares``
-(bounds, Jacobian by forward differences, all columns in one batch of the
-kernel), and verifies each result along the whole stroke by the backend's
+(bounds, Jacobian by forward differences; the polishes side by side, one
+batch of the kernel evaluating every layout they ask for:
+:mod:`~domes.design.synthesis.polish`), and verifies each result along the whole stroke by the backend's
 continuation sweep, an independent route. What is fitted is the *motion
 ratio* ``−dℓ/dy`` times the wanted leverage, minus one: the relative error
 of the leverage, smooth where the shock stops moving. Transmission angles,
@@ -56,8 +57,8 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
 
+from domes.design.synthesis.polish import polish as polish_side_by_side
 from domes.errors import InputError
 from domes.model.mechanism import CouplerPoint, Mechanism, from_labelled
 from domes.motion.planar.kernel import Program, iterated
@@ -562,54 +563,11 @@ def _fit(model: Model, rng, screened: int, polish: int, clock: Ticker | None = N
     ok = e["ok"].all(axis=1)
     order = np.flatnonzero(ok)[np.argsort(cost[ok])][:polish]
     lo, hi = model.bounds()
-    h = 1e-7 * model.task.size
-    results = []
-    for n, k in enumerate(order, 1):
-        clock.tick(lambda: f"{where}: polishing layout {n} of {len(order)}")
-        differences = _ForwardDifferences(model, lo, hi, h)
-        fit = least_squares(differences.residuals, rows[k], jac=differences.jacobian, bounds=(lo, hi),
-                            x_scale="jac", max_nfev=200, xtol=1e-12, ftol=1e-12)
-        results.append(fit.x)
-    return results
 
+    def tick(running: int) -> None:
+        clock.tick(lambda: f"{where}: polishing {len(order)} layouts side by side, {running} still going")
 
-class _ForwardDifferences:
-    """A layout's residuals and their Jacobian by forward differences (step ``h``, kept in the bounds), the
-    layout and its perturbed copies in one batch of the kernel.
-
-    A call of the kernel costs about the same for one layout as for a dozen (its fixed costs dominate), and
-    least squares asks for the Jacobian at the layouts whose residuals it asked for last: so each call for
-    residuals evaluates the perturbed layouts too, and the Jacobian at that layout reads them. The kernel works
-    layout by layout (elementwise), so the residuals of a layout are the same in any batch.
-
-    >>> import numpy as np
-    >>> class Line:  # residuals p0 + 2 p1 and p0 * p1 of each layout
-    ...     def residuals(self, rows):
-    ...         return np.c_[rows[:, 0] + 2 * rows[:, 1], rows[:, 0] * rows[:, 1]]
-    >>> d = _ForwardDifferences(Line(), np.zeros(2), np.full(2, 4.0), 1e-6)
-    >>> d.residuals(np.array([1.0, 3.0])).tolist()
-    [7.0, 3.0]
-    >>> np.round(d.jacobian(np.array([1.0, 3.0])), 6).tolist()
-    [[1.0, 2.0], [3.0, 1.0]]
-    """
-
-    def __init__(self, model, lo: np.ndarray, hi: np.ndarray, h: float):
-        self.model, self.lo, self.hi, self.h = model, lo, hi, h
-        self._at: bytes | None = None
-        self._batch = None
-
-    def _evaluate(self, p: np.ndarray):
-        trial = np.clip(np.vstack([p, p + self.h * np.eye(p.size)]), self.lo, self.hi)
-        return trial, self.model.residuals(trial)
-
-    def residuals(self, p: np.ndarray) -> np.ndarray:
-        self._batch = self._evaluate(p)
-        self._at = p.tobytes()
-        return self._batch[1][0].copy()
-
-    def jacobian(self, p: np.ndarray) -> np.ndarray:
-        trial, r = self._batch if self._at == p.tobytes() else self._evaluate(p)
-        return ((r[1:] - r[0]) / (trial[1:] - trial[0]).sum(axis=1)[:, None]).T
+    return polish_side_by_side(model.residuals, [rows[k] for k in order], lo, hi, 1e-7 * model.task.size, tick)
 
 
 def _verify(model: Model, cid: int, row: np.ndarray, name: str) -> Dimensioned:
