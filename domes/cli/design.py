@@ -30,7 +30,7 @@ COMMANDS = {
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    from domes.design.feasibility import METHODS
+    from domes.design.methods import METHODS
 
     d = sub.add_parser(
         "design",

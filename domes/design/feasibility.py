@@ -33,6 +33,7 @@ import numpy as np
 
 from domes.design import forces
 from domes.design.brief import CheckSpec, DesignBrief
+from domes.design.methods import METHODS
 from domes.design.synthesis.candidate import Dimensioned, Model, dimension
 from domes.design.tolerance import Tolerancing, sensitivity
 from domes.errors import DomesError, InputError
@@ -43,8 +44,6 @@ from domes.motion.planar.sweep import solve, sweep
 from domes.results import Listing, Progress, Status, Ticker
 
 FEASIBLE, INFEASIBLE, NOT_CARRIED, NOT_DONE = "feasible", "infeasible", "cannot carry the task", "not finished"
-#: Methods of the dimensioning (the knob of :func:`~domes.design.synthesis.candidate.dimension`).
-METHODS = ("exact", "fast")
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from domes.design.feasibility import METHODS
+from domes.design.methods import METHODS
 from domes.errors import DomesError, InputError
 from domes.expert.dialogue import Dialogue, Outcome
 from domes.expert.feasible import DesignKnobs
