@@ -322,7 +322,10 @@ def fit(points, given: dict, crank=None, starts: int = 256, seed: int = 0, keep:
         for k, i in enumerate(idx):
             last["calls"] = 0
             with np.errstate(all="ignore"):
-                X[i] = least_squares(fun, X[i], jac=jac, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15,
+                # Levenberg-Marquardt needs as many residuals as unknowns; fewer given than Table 2-1's count
+                # (least_squares_only on an underdetermined task) takes the trust region instead
+                X[i] = least_squares(fun, X[i], jac=jac, method="lm" if len(fun(X[i])) >= X.shape[1] else "trf",
+                                     xtol=1e-15, ftol=1e-15, gtol=1e-15,
                                      max_nfev=POLISH).x
             r[i] = fun(X[i])
         found = _collect(X[idx], r[idx], P, given, kind, size, keep, left_out)
