@@ -115,7 +115,7 @@ def test_tracked_paths_end_on_distinct_certified_classes():
         assert certify(system, hc.refine(system, w, pp)[0], p1)[0].max() < 1e-10
 
 
-@pytest.mark.skipif(not FULL, reason="one full query, about a minute: DOMES_FULL_TESTS=1")
+@pytest.mark.skipif(not FULL, reason="one full query on two arcs, one to two minutes of CPU: DOMES_FULL_TESTS=1")
 def test_nine_points_of_a_crank_rocker():
     """Nearly every class is found (1,442 for generic points; this one has a class whose every member lies beyond
     10⁴ sizes, where the affine tracker fails) and the crank-rocker the points came from is among the usable
