@@ -225,7 +225,10 @@ def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 6
     route)`` when the route finds nothing.
 
     With timing, the path task (``domes synthesize``, least squares of the prescribed timing, ``seeds`` × 8
-    starts), the answer whose kernel-checked error at the prescribed angles is smallest. Without timing, nine
+    starts) and the bounded least squares of :func:`domes.motion.coupler.minimax.timed_fit` (its minima held to
+    links of at most 10 times the size, where the path task's run off), the answer whose kernel-checked error at
+    the prescribed angles is smallest (the bounded one only when the kernel drives it through every prescribed
+    angle in one motion). Without timing, nine
     points or more: the atlas look-up and least squares of ``domes curves match`` (``candidates`` refined; the
     closed atlas ``closed`` or, for an open or partial path, the window index ``opened``), the best fit then
     polished towards the smallest worst point (:func:`domes.motion.coupler.minimax.polish`). Fewer points: the
@@ -236,15 +239,29 @@ def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 6
     from domes.design.synthesis.solve import synthesize
     from domes.design.synthesis.task import task_from_dict
     from domes.motion.coupler.match import match
-    from domes.motion.coupler.minimax import polish
+    from domes.motion.coupler.minimax import polish, timed_fit
 
     pts = np.asarray(target["points"], dtype=float)
     if timed(target):
-        result = synthesize(task_from_dict(path_task(target)), "fast", seeds)
-        if not result.solutions:
-            return None, None, "path task: no answer"
-        best = min(result.solutions, key=lambda s: max(s.residuals))
-        return best.fourbar, crank_angles(target, best.claim.angles[0]), "path task (timing)"
+        task = path_task(target)
+        answers = [(max(s.residuals), s.fourbar, crank_angles(target, s.claim.angles[0]), "path task (timing)")
+                   for s in synthesize(task_from_dict(task), "fast", seeds).solutions]
+        given = {"ax": task["a0"][0], "ay": task["a0"][1]} if "a0" in task else {}
+        if "b0y" in task.get("given", {}):
+            given["dy"] = task["given"]["b0y"]
+        boxed = timed_fit(pts, np.asarray(crank_angles(target, 0.0)[1:]), given)
+        if boxed is not None:
+            fb, angles = fourbar_of(boxed[0]), crank_angles(target, boxed[1])
+            r = replay(fb, angles, ["point:P"])
+            if r.dead is None:                   # the crank reaches every prescribed angle in one motion
+                xy = np.c_[r.values["point:P.x"], r.values["point:P.y"]]
+                answers.append((float(np.max(np.linalg.norm(xy - pts, axis=1))), fb, angles,
+                                "bounded least squares (timing)"))
+        answers = [a for a in answers if np.isfinite(a[0])]
+        if not answers:
+            return None, None, "path task and bounded least squares: no answer"
+        _, fb, angles, route = min(answers, key=lambda a: a[0])
+        return fb, angles, route
     if len(pts) >= 9:
         atlas = opened if target["kind"] in ("open", "partial") else closed
         found = match(pts, atlas, results=1, candidates=candidates)

@@ -195,3 +195,92 @@ def _mechanism(g, T) -> Mechanism:
               Joint("C", "R", ("coupler", "rocker"), (C.real, C.imag)), Joint("D", "R", ("rocker", "frame"), (D.real, D.imag))]
     return Mechanism.build("fitted four-bar", list(LINKS), "frame", joints, [Input("A")],
                            points=[CouplerPoint("P", "coupler", (P.real, P.imag))])
+
+
+#: Random starts of :func:`timed_fit`, and least-squares evaluations from each.
+TIMED_STARTS, TIMED_EVALUATIONS = 60, 200
+#: The box of :func:`timed_fit` (times the points' size): pivots and coupler point within BOX of the points'
+#: centre, links between MIN_LINK and LONGEST.
+BOX, LONGEST = 5.0, 10.0
+#: The nine dimensions' names, in the order of a linkage vector ``g``.
+DIMENSIONS = ("ax", "ay", "dx", "dy", "a", "b", "c", "u", "v")
+
+
+def timed_fit(points, rotations, fixed: dict | None = None, starts: int = TIMED_STARTS, seed: int = 0):
+    """``(mechanism, first, worst)``: a four-bar whose coupler point meets ``points`` at prescribed crank angles,
+    the crank turning by ``rotations`` (rad) from the first point to each later one, by bounded least squares
+    from ``starts`` random starts (either assembly mode) in a box of the points' size (links from 2% to 10 times
+    it), so that no minimum runs off to infinite links; ``first`` is the crank's angle (world, rad) at the first
+    point and ``worst`` the largest distance. ``fixed`` holds dimensions of :data:`DIMENSIONS` given (``{"ax": 0,
+    "ay": 0, "dy": 0}``: the crank pivot at the origin, the rocker pivot on the x axis). None when no start closes.
+
+    >>> from domes.motion.coupler.fourbar import four_bar
+    >>> m = four_bar(1, 3.5, 3, 2, 0, 2, theta=0.3)
+    >>> import numpy as np
+    >>> from domes.motion.planar.batch import batch
+    >>> b = batch(m, inputs=0.3 + np.radians(np.arange(0, 150, 25)), outputs=["point:P"])
+    >>> pts = np.c_[b.values["point:P.x"][0], b.values["point:P.y"][0]]
+    >>> mech, first, worst = timed_fit(pts, np.radians(np.arange(25, 150, 25)), starts=4)
+    >>> worst < 1e-3                  # a few starts: near the planted linkage (60, the default: 1e-14)
+    True
+    """
+    T = np.asarray(points, dtype=float)
+    T = T[:, 0] + 1j * T[:, 1]
+    rel = np.concatenate([[0.0], np.asarray(rotations, dtype=float)])
+    if len(rel) != len(T):
+        raise ValueError(f"one crank rotation per point after the first ({len(T) - 1}), got {len(rel) - 1}")
+    fixed = dict(fixed or {})
+    size = float(max(np.ptp(T.real), np.ptp(T.imag), 1e-300))
+    c = T.mean()
+    centre = np.array([c.real, c.imag, c.real, c.imag, 0, 0, 0, 0, 0])
+    lo = np.concatenate([centre[:4] - BOX * size, np.full(3, MIN_LINK * size), np.full(2, -BOX * size), [-np.inf]])
+    hi = np.concatenate([centre[:4] + BOX * size, np.full(3, LONGEST * size), np.full(2, BOX * size), [np.inf]])
+    free = [k for k, name in enumerate(DIMENSIONS) if name not in fixed] + [9]
+    full = np.zeros(10)
+    for k, name in enumerate(DIMENSIONS):
+        if name in fixed:
+            full[k] = fixed[name]
+
+    def residuals(y, sign):
+        x = full.copy()
+        x[free] = y
+        P, _ = _positions(x[:9], x[9] + rel, sign)
+        r = np.where(np.isfinite(P), P - T, 10.0 * size)
+        return np.concatenate([r.real, r.imag]) / size
+
+    rng = np.random.default_rng(seed)
+    best = None
+    for k in range(starts):
+        x0 = np.concatenate([centre[:4] + size * rng.uniform(-2, 2, 4), size * rng.uniform(0.1, 2, 3),
+                             size * rng.uniform(-2, 2, 2), rng.uniform(-math.pi, math.pi, 1)])
+        y0 = np.clip(x0[free], lo[free] + 1e-9 * size, hi[free] - 1e-9 * size)
+        sign = 1.0 if k % 2 else -1.0
+        with np.errstate(all="ignore"):
+            y = least_squares(residuals, y0, args=(sign,), bounds=(lo[free], hi[free]), method="trf",
+                              max_nfev=TIMED_EVALUATIONS).x
+        r = residuals(y, sign)
+        worst = float(np.max(np.hypot(r[:len(T)], r[len(T):]))) * size
+        if best is None or worst < best[0]:
+            best = (worst, y, sign)
+    worst, y, sign = best
+    x = full.copy()
+    x[free] = y
+    P, _ = _positions(x[:9], x[9] + rel[:1], sign)
+    if not np.isfinite(P[0]):
+        return None
+    return _drawn(x[:9], x[9], sign), float(x[9]), worst
+
+
+def _drawn(g, theta: float, sign: float) -> Mechanism:
+    """The four-bar ``g`` drawn with its crank at ``theta`` on assembly mode ``sign``."""
+    ax, ay, dx, dy, a, b, c, u, v = g
+    A, D = complex(ax, ay), complex(dx, dy)
+    B = A + a * complex(math.cos(theta), math.sin(theta))
+    r = D - B
+    along = (b * b + abs(r) ** 2 - c * c) / (2 * abs(r))
+    C = B + complex(along, sign * math.sqrt(max(b * b - along * along, 0.0))) * r / abs(r)
+    P = B + complex(u, v) * (C - B) / abs(C - B)
+    joints = [Joint("A", "R", ("frame", "crank"), (A.real, A.imag)), Joint("B", "R", ("crank", "coupler"), (B.real, B.imag)),
+              Joint("C", "R", ("coupler", "rocker"), (C.real, C.imag)), Joint("D", "R", ("rocker", "frame"), (D.real, D.imag))]
+    return Mechanism.build("fitted four-bar", list(LINKS), "frame", joints, [Input("A")],
+                           points=[CouplerPoint("P", "coupler", (P.real, P.imag))])
