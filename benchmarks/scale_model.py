@@ -11,7 +11,7 @@ mean); the rest does not shrink:
 
 ``--method augment`` (default): the atlas by canonical augmentation, whose
 parts are independent. Before the run, :func:`domes.typesynth.atlas.forecast`
-walks a few parts drawn at random here and scales them up (count, CPU work,
+walks a few parts drawn at random here (``--forecast-parts``) and scales them up (count, CPU work,
 memory); the run then says how far the forecast was. ``--sample M`` walks
 only ``M`` other parts drawn at random (``--seed``), on the cluster: the
 check of a forecast for an atlas too large to build here (16 links).
@@ -19,7 +19,7 @@ check of a forecast for an atlas too large to build here (16 links).
 canonical labelling are the tasks).
 
     python benchmarks/scale_model.py --links 14 --dof 1 --workers 2                 # docs/scale.md
-    python benchmarks/scale_model.py --links 16 --dof 1 --workers 2 --sample 24
+    python benchmarks/scale_model.py --links 16 --dof 1 --workers 2 --sample 2 --forecast-parts 2
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from collections import defaultdict
 
 from domes.execution import executor
 from domes.typesynth import augment
-from domes.typesynth.atlas import IMBALANCE, ChainGenerator, forecast
+from domes.typesynth.atlas import FORECAST_PARTS, IMBALANCE, ChainGenerator, augment_forecast
 
 
 def _peak_rss() -> int:
@@ -71,6 +71,8 @@ def main() -> int:
     parser.add_argument("--method", choices=("augment", "merge"), default="augment")
     parser.add_argument("--sample", type=int, help="walk only this many parts, drawn at random (augment)")
     parser.add_argument("--seed", type=int, default=1, help="draws the sampled parts (the forecast draws with 0)")
+    parser.add_argument("--forecast-parts", type=int, default=FORECAST_PARTS,
+                        help=f"parts the forecast walks (default {FORECAST_PARTS}, as domes chains does)")
     parser.add_argument("--predict", type=int, nargs="*", default=[1, 2, 4, 8, 16, 32])
     args = parser.parse_args()
     from distributed import get_task_stream
@@ -78,7 +80,7 @@ def main() -> int:
     f = None
     if args.method == "augment":
         clock = time.perf_counter()
-        f = forecast(args.links, args.dof, method="augment", workers=args.workers)
+        f = augment_forecast(args.links, args.dof, args.workers, args.forecast_parts)
         print(f"forecast ({time.perf_counter() - clock:.1f} s): {f.count:,.0f} chains, work {f.work:.1f} s of CPU in "
               f"parts, serial {f.serial:.1f} s, {f.seconds_on(args.workers):.1f} s on {args.workers} workers, "
               f"{f.worker_memory / 2**20:.0f} MiB a worker; {f.basis}")

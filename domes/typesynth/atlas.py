@@ -754,8 +754,8 @@ MERGE_SECONDS_PER_CHAIN = 6e-6
 HELD_BYTES_PER_CHAIN = 130
 #: ... and, per process, its memory before any part (Python, numpy, nauty, a Dask worker) ...
 PROCESS_BYTES = 1.6e8
-#: ... and the imbalance of a local cluster: the busiest worker's work over the mean (14 links, 2 workers,
-#: benchmarks/scale_model.py).
+#: ... and the imbalance of a local cluster, the busiest worker's work over the mean: assumed (the merge
+#: generator's slices measured 1.03, benchmarks/scale_model.py; parts are many and of similar size).
 IMBALANCE = 1.1
 
 
