@@ -43,6 +43,14 @@ class Compiled:
         self.program = Program(kin)
         self.geometry = self.program.geometry()
 
+    @classmethod
+    def of(cls, kin) -> "Compiled":
+        """The query's compiled form, made once and kept on the query (a sweep and its walks share it)."""
+        done = kin.__dict__.get("_compiled")
+        if done is None or done.kin is not kin:
+            done = kin.__dict__["_compiled"] = cls(kin)
+        return done
+
 
 @dataclass
 class Run:

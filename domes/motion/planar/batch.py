@@ -53,6 +53,7 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.model.mechanism import Mechanism
+from domes.motion.planar import compiled
 from domes.motion.planar.kernel import Program
 from domes.motion.planar.query import Kinematics
 from domes.results import Progress, Result, Status, Ticker
@@ -66,6 +67,9 @@ PROBE = 4096
 #: threshold for reusing temporaries, which swaps the operands of a product and, with fused multiply-adds, can
 #: change its last bit: so the values do not depend on the chunking.
 CHUNK = (1 << 14) - 1
+#: The same for the compiled route (:mod:`~domes.motion.planar.compiled`): one loop per chunk, no temporaries,
+#: so larger chunks only spread the fixed cost of a chunk further (values are the same whatever the chunking).
+COMPILED_CHUNK = 1 << 17
 #: The kinds of status, in the order they are reported.
 KINDS = ("complete", "limit", "undetermined", "ambiguous")
 
@@ -222,6 +226,9 @@ class ExtremesSink:
     def accept(self, c: Chunk) -> None:
         rows = np.arange(c.hi - c.lo)
         for col, val in c.values.items():
+            if compiled.loaded():  # the same reduction in one compiled pass
+                compiled.extremes(val, c.lo, self.minimum[col], self.maximum[col], self.argmin[col], self.argmax[col])
+                continue
             bad = np.isnan(val)
             some = ~bad.all(axis=1)
             for best, where, fill, pick in ((self.minimum, self.argmin, np.inf, np.argmin),
@@ -265,7 +272,7 @@ class BatchRun(Result):
 
 def batch(mech: Mechanism, coordinates=None, inputs=None, outputs=None, order: int = 0, joint: str | None = None,
           directions=None, progress: Progress | None = None, memory: int = MEMORY, chunk: int | None = None,
-          sink=None):
+          sink=None, route: str | None = None):
     """Evaluate ``outputs`` (up to derivative ``order``) of many mechanisms of ``mech``'s topology at ``inputs``.
 
     ``coordinates`` maps joint and point names to ``(M, 2)`` arrays (the
@@ -285,9 +292,16 @@ def batch(mech: Mechanism, coordinates=None, inputs=None, outputs=None, order: i
     sink (an object with ``start(plan)``, ``accept(chunk)``, ``finish()``
     and optionally ``abort()``), a :class:`BatchRun` whose ``result`` is
     what ``sink.finish()`` returned. Chunking does not change any value.
+
+    ``route`` (``numpy``, ``numba`` or ``auto``; default ``$DOMES_KERNEL``,
+    else ``auto``) chooses how the kernel runs
+    (:func:`~domes.motion.planar.compiled.choose`): ``auto`` compiles a batch
+    of at least :data:`~domes.motion.planar.compiled.THRESHOLD`
+    configurations when numba is installed. Both routes give the same numbers
+    to rounding.
     """
     kin = Kinematics(mech, outputs, order)
-    prog = Program(kin)
+    prog = Program(kin, route)
     joint = joint or mech.inputs[0].joint
     if joint not in kin.inputs:
         raise InputError(f"{joint!r} is not a driven joint of {mech.name}; inputs are {sorted(kin.inputs)}")
@@ -304,6 +318,12 @@ def batch(mech: Mechanism, coordinates=None, inputs=None, outputs=None, order: i
     geom = prog.geometry(coordinates, directions)
     total = geom.count or 1
     n = qs.size
+    fast = compiled.Tape.of(prog) is not None and compiled.choose(total * n, route)
+    prog.route = "numba" if fast else "numpy"
+    prog.scratch = True  # each chunk's poses are used up before the next chunk: the compiled route reuses its arrays
+    if fast:
+        compiled.warm()  # numba's import and cache load, before the probe measures a chunk's memory
+    cap = COMPILED_CHUNK if fast else CHUNK
     columns = tuple(name + "'" * k for o in kin.outputs for k in range(order + 1) for name in o.columns())
     plan = Plan(mech.name, joint, qs, total, columns)
     collect = sink is None
@@ -333,7 +353,7 @@ def batch(mech: Mechanism, coordinates=None, inputs=None, outputs=None, order: i
             g = geom.rows(lo, hi) if geom.count is not None else geom
             if chunk is None and lo == 0 and hi < total:  # the probe: measure the working bytes of one mechanism
                 per = _measured(lambda: step(g, lo, hi), hi - lo)
-                rows = max(1, min(total, int(memory // per), CHUNK // n))
+                rows = max(1, min(total, int(memory // per), cap // n))
             else:
                 step(g, lo, hi)
             lo = hi
@@ -369,15 +389,20 @@ def _evaluate(prog, g, qs, joint, order, size, lo, hi) -> Chunk:
     n = qs.size
     pose = prog.poses(g, qs[None, :], joint)
     shape = (hi - lo, n)
+    ambiguous = np.zeros(hi - lo, dtype=bool)
+    for sign in g.sign.values():
+        ambiguous |= np.broadcast_to(np.asarray(sign) == 0, (hi - lo, 1))[:, 0]
+    done = None if order or getattr(pose, "raw", None) is None else \
+        compiled.Tape.of(prog).finish(pose, prog.kin.outputs, ambiguous, size)
+    if done is not None:
+        values, ok, kinds, transmission, residual = done
+        return Chunk(lo, hi, values, ok, np.array(KINDS)[kinds], transmission, residual)
     limit = np.zeros(shape, dtype=bool)
     undetermined = np.zeros(shape, dtype=bool)
     for index in pose.unassembled:
         limit |= np.broadcast_to(pose.unassembled[index], shape)
         undetermined |= np.broadcast_to(pose.undetermined[index], shape)
     ok = ~(limit | undetermined)
-    ambiguous = np.zeros(hi - lo, dtype=bool)
-    for sign in g.sign.values():
-        ambiguous |= np.broadcast_to(np.asarray(sign) == 0, (hi - lo, 1))[:, 0]
     ok &= ~ambiguous[:, None]
     kinds = np.where(ambiguous, "ambiguous", np.where(undetermined.any(axis=1), "undetermined",
                                                       np.where(ok.all(axis=1), "complete", "limit")))

@@ -22,6 +22,8 @@ import math
 from dataclasses import dataclass
 from enum import StrEnum
 
+import numpy as np
+
 from domes.errors import InputError, NumericalError
 from domes.motion.planar.query import PRESETS, FailureKind, Kinematics, SolveFailure
 
@@ -202,7 +204,7 @@ def grid(start: float, stop: float, step: float) -> list[float]:
     n = (stop - start) / step
     count = int(math.floor(abs(n) + 1e-9))
     sign = 1.0 if stop >= start else -1.0
-    pts = [start + sign * k * step for k in range(count + 1)]
+    pts = (start + sign * np.arange(count + 1) * step).tolist()  # as start + sign·k·step, in one pass
     if abs(pts[-1] - stop) > 1e-9 * max(1.0, abs(stop)):
         pts.append(stop)
     return pts

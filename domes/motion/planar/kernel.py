@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from domes.errors import InputError
+from domes.motion.planar.compiled import Tape, choose
 from domes.motion.planar.dyads import ASSEMBLY_SLACK
 from domes.motion.planar.groups import Loops, follow
 from domes.motion.planar.groups import solve as solve_stack
@@ -312,7 +313,7 @@ class Program:
     [-90.0, -77.18777, -66.376967]
     """
 
-    def __init__(self, kin):
+    def __init__(self, kin, route: str | None = None):
         others = blocked(kin)
         if others:
             raise InputError(f"{kin.mech.name}: the kernel evaluates drivers, dyads, gear and cam pairs driven "
@@ -320,6 +321,9 @@ class Program:
                              f"arrays); groups {others} are solved step by step (Newton's method: the whole "
                              "loop-closure model, or a group reading what no earlier group holds on arrays)")
         self.kin = kin
+        #: ``numpy``, ``numba`` or ``auto`` (None: ``$DOMES_KERNEL``): how :meth:`poses` runs
+        #: (:func:`~domes.motion.planar.compiled.choose`).
+        self.route = route
         self.reads, order, _ = _compile(kin)
         s = kin.structure
         self.lifts = {v: float(t.law.evaluate(t.phase, 0)[0]) for v, t in s.derived.items() if isinstance(t, CamTie)}
@@ -432,8 +436,10 @@ class Program:
         ``q``, from the state ``start`` (variable -> value; default the drawn pose).
         """
         joint = joint or self.mech.inputs[0].joint
-        inputs = {j: (q if j == joint else (others or {}).get(j, geom.drawn[j])) for j in self.inputs}
         shape = np.broadcast_shapes(np.shape(q), (geom.count, 1) if geom.count is not None else ())
+        if self._compiled(q, shape, others, signs):
+            return Tape.of(self).poses(geom, q, joint, others, signs, shape)
+        inputs = {j: (q if j == joint else (others or {}).get(j, geom.drawn[j])) for j in self.inputs}
         pose = Poses({self.ground: (1.0 + 0j, 0j, 0j)}, {}, inputs, shape)
         variables = self.kin.structure.input_vars
         pose.values = {variables[j]: np.asarray(v, dtype=float) for j, v in inputs.items()}
@@ -450,6 +456,15 @@ class Program:
                 for how in self.reads.get(g.index, ()):
                     pose.values[how[1]] = _read(pose, how, start)
         return pose
+
+    def _compiled(self, q, shape, others, signs) -> bool:
+        """Whether :meth:`poses` takes the compiled loop: one row of inputs, fixed other inputs and assembly modes,
+        a program of drivers and dyads, and the route (:func:`~domes.motion.planar.compiled.choose`)."""
+        if not (np.ndim(q) == 1 or (np.ndim(q) == 2 and np.shape(q)[0] == 1)) or not shape:
+            return False
+        if any(np.ndim(v) for v in (others or {}).values()) or any(np.ndim(v) for v in (signs or {}).values()):
+            return False
+        return choose(math.prod(shape), self.route) and Tape.of(self) is not None
 
     def _driver(self, geom, pose, j, link, known):
         q = np.asarray(pose.inputs[j.name], dtype=float)

@@ -224,7 +224,7 @@ def _reach(kin, cont, q):
     """The state at ``q`` reached from the drawn pose, and the branch points passed on the way."""
     if blocked(kin):
         return cont.start(q), []
-    walker = Walker(cont, Compiled(kin))
+    walker = Walker(cont, Compiled.of(kin))
     pts, _ = fine_grid([q], cont.q0, cont.h)
     w = walker.walk(dict(kin.structure.drawn), cont.q0, pts)
     if w.stuck is not None:
@@ -237,7 +237,7 @@ def _reach(kin, cont, q):
 
 def _vector_sweep(kin, cont, qs, progress) -> Sweep:
     state, passed = _reach(kin, cont, qs[0])
-    walker = Walker(cont, Compiled(kin))
+    walker = Walker(cont, Compiled.of(kin))
     pts, marks = fine_grid(qs, qs[0], cont.h)
     clock = Ticker(progress)
     w = walker.walk(state, qs[0], pts, lambda i, n: clock.tick(lambda: f"step {i}/{n}: input {cont.fmt(pts[i - 1])}"))

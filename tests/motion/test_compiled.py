@@ -1,0 +1,165 @@
+"""The kernel's compiled route (numba) against its numpy route (issue 28, item 2).
+
+Both routes evaluate the same closed forms; the compiled one in one loop per configuration. They agree to
+rounding: 1e-14 of the size where the dyads are well away from a limit. Nearer a limit an RRR dyad's position
+moves by the rounding of its discriminant over the root (``ε·size/root``, the sine of the transmission angle
+there), so the comparison allows ``1e-15·size/root`` too; statuses, NaN patterns and extremes' indices agree
+exactly. Sweeps and batches are run whole in both routes (``DOMES_KERNEL``, ``route=``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from kinematics_cases import example
+from test_dyads import _dyad_mechanisms
+
+from domes.errors import InputError
+from domes.motion import CouplerPoint, Input, Joint, Kinematics, Mechanism
+from domes.motion.planar import compiled
+from domes.motion.planar.batch import ExtremesSink, batch
+from domes.motion.planar.kernel import Program
+from domes.motion.planar.sweep import sweep
+
+numba = pytest.importorskip("numba")
+
+TEMPLATE = Mechanism.build("fb", ["f", "crank", "coupler", "rocker"], "f",
+                           [Joint("A", "R", ("f", "crank"), (0.0, 0.0)), Joint("B", "R", ("crank", "coupler"), (1.0, 0.0)),
+                            Joint("C", "R", ("coupler", "rocker"), (3.5, math.sqrt(6.0))),
+                            Joint("D", "R", ("rocker", "f"), (3.0, 0.0))],
+                           [Input("A", 2.0, 0.5)], points=[CouplerPoint("P", "coupler", (2.0, 2.0))])
+
+
+def _mechanisms():
+    out = {name: example(name) for name in ("four-bar.json", "watt-six-bar.json", "stephenson-six-bar.json",
+                                            "slider-crank.json", "inverted-slider.json")}
+    out.update(_dyad_mechanisms())
+    return out
+
+
+def _close(a, b, scale, root=None, what=""):
+    """``a`` and ``b`` are NaN at the same places and elsewhere within 1e-14 of ``scale`` (and 1e-15 of it over
+    ``root``)."""
+    a, b = np.broadcast_arrays(np.asarray(a), np.asarray(b))
+    assert np.array_equal(np.isnan(a), np.isnan(b)), what
+    allowed = 1e-14 * scale
+    if root is not None:  # near a limit or a dead point: the rounding over the root
+        allowed = np.maximum(allowed, 1e-15 * scale / np.maximum(np.asarray(root), 1e-300))
+    gap = np.abs(np.where(np.isnan(a), 0, a - b))
+    assert np.all(gap <= allowed), (what, float(np.max(gap / allowed)))
+
+
+def _conditioning(prog, geom, pose):
+    """Each configuration's smallest dyad root (RRR, RPR, RRP) or sine between slides (PRP, RPP), at most 1: the
+    rounding of a position grows as its inverse."""
+    worst = np.ones(np.shape(next(iter(pose.unassembled.values()))))
+    for r in pose.root.values():
+        worst = np.minimum(worst, r)
+    for kind, g, *rest in prog.steps:
+        if kind == "dyad" and rest[0].kind in ("PRP", "RPP"):
+            plan, ka, kc = rest
+            first, second = (plan.a, plan.c) if plan.kind == "PRP" else (plan.b, plan.c)
+            u1 = pose.links[ka if plan.kind == "PRP" else kc][0] * geom.direction[first.name]
+            u2 = pose.links[kc][0] * geom.direction[second.name]
+            worst = np.minimum(worst, np.abs(u1.real * u2.imag - u1.imag * u2.real))
+    return worst
+
+
+def test_route_is_chosen_by_name_and_environment(monkeypatch):
+    assert not compiled.choose(10 ** 9, "numpy")
+    assert compiled.choose(1, "numba")
+    monkeypatch.setenv(compiled.VARIABLE, "numpy")
+    assert compiled.route() == "numpy" and not compiled.choose(10 ** 9)
+    monkeypatch.setenv(compiled.VARIABLE, "fast")
+    with pytest.raises(InputError, match="DOMES_KERNEL='fast'.*auto, numpy, numba"):
+        compiled.route()
+
+
+def test_poses_equal_numpy_on_every_dyad_kind():
+    for name, m in _mechanisms().items():
+        kin = Kinematics(m, None, 0)
+        slow, fast = Program(kin, "numpy"), Program(kin, "numba")
+        geom = slow.geometry()
+        q0 = kin.drawn_inputs()[m.inputs[0].joint]
+        qs = q0 + np.linspace(-1.0, 1.0, 201) if m.joint(m.inputs[0].joint).kind == "P" else \
+            q0 + np.linspace(0.0, 2 * math.pi, 361)
+        a, b = slow.poses(geom, qs), fast.poses(geom, qs)
+        root = _conditioning(slow, geom, a)
+        assert set(a.links) == set(b.links) and set(a.slides) == set(b.slides) and set(a.root) == set(b.root), name
+        for link in a.links:
+            for x, y in zip(a.links[link][:2], b.links[link][:2]):
+                _close(x, y, m.size, root, what=(name, link))
+        for j in a.slides:
+            _close(a.slides[j], b.slides[j], m.size, root, what=(name, j))
+        for i in a.unassembled:
+            assert np.array_equal(np.broadcast_to(a.unassembled[i], qs.shape), b.unassembled[i]), (name, i)
+            assert np.array_equal(np.broadcast_to(a.undetermined[i], qs.shape), b.undetermined[i]), (name, i)
+            _close(a.closure[i], b.closure[i], m.size, what=(name, "closure"))
+        for i in a.root:
+            _close(a.root[i], b.root[i], 1.0, root, what=(name, "root"))
+            _close(a.margin[i], b.margin[i], m.size, root, what=(name, "margin"))
+
+
+@pytest.mark.parametrize("order", [0, 1, 2])
+def test_sweeps_equal_numpy(monkeypatch, order):
+    # the benchmark's mechanisms, and a four-bar that meets a limit (seed 000 T6's crank-rocker made a triple rocker)
+    stuck = Mechanism.build("tr", ["f", "crank", "coupler", "rocker"], "f",
+                            [Joint("A", "R", ("f", "crank"), (0.0, 0.0)), Joint("B", "R", ("crank", "coupler"), (1.6, 0.0)),
+                             Joint("C", "R", ("coupler", "rocker"), (3.0, 1.5)),
+                             Joint("D", "R", ("rocker", "f"), (3.0, 0.0))], [Input("A", 2.0, 0.5)])
+    cases = [example(n) for n in ("four-bar.json", "watt-six-bar.json", "stephenson-six-bar.json")] + [stuck]
+    for m in cases:
+        q0 = Kinematics(m).drawn_inputs()[m.inputs[0].joint]
+        runs = []
+        for route in ("numpy", "numba"):
+            monkeypatch.setenv(compiled.VARIABLE, route)
+            runs.append(sweep(m, q0, q0 + 2 * math.pi, 2 * math.pi / 720, order=order))
+        a, b = runs
+        assert a.status == b.status and a.inputs.size == b.inputs.size, m.name
+        assert [(d.kind, d.group) for d in a.dead_points] == [(d.kind, d.group) for d in b.dead_points], m.name
+        for d, e in zip(a.dead_points, b.dead_points):
+            assert abs(d.input - e.input) <= d.within + e.within, m.name
+        for c in a.columns:
+            k = len(c) - len(c.rstrip("'"))
+            scale = (1.0 if c.startswith("angle") else m.size) * abs(m.inputs[0].speed) ** k
+            # to 1e-14 of the scale and the value, times the condition number per derivative (near the limit)
+            _close(a.column(c), b.column(c), (scale + np.abs(a.column(c))) * a.conditions ** k, what=(m.name, c))
+        assert np.allclose(a.conditions, b.conditions, rtol=1e-12, atol=0), m.name
+        assert np.all(np.abs(a.residuals - b.residuals) <= 1e-15), m.name
+
+
+def _four_bars(count, seed):
+    rng = np.random.default_rng(seed)
+    c = {"B": np.c_[rng.uniform(0.5, 1.5, count), rng.uniform(-0.4, 0.4, count)],
+         "C": np.c_[rng.uniform(2.5, 4.0, count), rng.uniform(1.5, 3.0, count)],
+         "D": np.c_[rng.uniform(2.5, 3.5, count), np.zeros(count)],
+         "P": np.c_[rng.uniform(0.0, 4.0, count), rng.uniform(0.0, 4.0, count)]}
+    c["B"][-2:, 1] = 0.0  # the last two drawn on a dead point (B, D, C collinear): ambiguous
+    c["C"][-2:] = c["D"][-2:] + [0.7, 0.0]
+    return c
+
+
+@pytest.mark.parametrize("outputs", [["point:P"], ["point:P", "angle:rocker"]])
+def test_batches_equal_numpy(outputs):
+    coords = _four_bars(400, 7)
+    qs = np.radians(np.arange(0.0, 360.0, 2.0))
+    a = batch(TEMPLATE, coords, qs, outputs=outputs, route="numpy")
+    b = batch(TEMPLATE, coords, qs, outputs=outputs, route="numba")
+    assert set(a.kinds) >= {"complete", "limit", "ambiguous"}
+    assert np.array_equal(a.kinds, b.kinds) and np.array_equal(a.assembled, b.assembled)
+    prog = Program(Kinematics(TEMPLATE, outputs), "numpy")
+    root = next(iter(prog.poses(prog.geometry(coords), qs[None, :]).root.values()))
+    for c in a.values:  # each four-bar is at least 3 long
+        _close(a.values[c], b.values[c], 1.0 if c.startswith("angle") else 3.0, root, what=c)
+    _close(a.transmission, b.transmission, 1.0, np.nan_to_num(a.transmission, nan=1.0), what="transmission")
+    assert np.all(np.abs(a.residual - b.residual) <= 1e-15)
+    ex = batch(TEMPLATE, coords, qs, outputs=outputs, route="numba", sink=ExtremesSink()).result
+    for c in b.values:  # the compiled reduction: numpy's nanmin / nanargmin ... of the same values, exactly
+        some = ~np.isnan(b.values[c]).all(axis=1)
+        assert np.array_equal(ex.minimum[c][some], np.nanmin(b.values[c][some], axis=1))
+        assert np.array_equal(ex.maximum[c][some], np.nanmax(b.values[c][some], axis=1))
+        assert np.array_equal(ex.argmin[c][some], np.nanargmin(b.values[c][some], axis=1))
+        assert np.array_equal(ex.argmax[c][some], np.nanargmax(b.values[c][some], axis=1))
+        assert np.all(ex.argmin[c][~some] == -1) and np.all(np.isnan(ex.minimum[c][~some]))
