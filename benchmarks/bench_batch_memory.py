@@ -14,10 +14,11 @@ with a sink:
 
 For each: the peak resident memory, the resident memory before the batch
 (Python, numpy and the drawn coordinates), the CPU time and positions per
-CPU second, the chunk (mechanisms at once) and the measured working bytes
-per mechanism. ``--chunks`` adds a table of speed against the chunk size
-(extremes, 10^5 four-bars, two fresh processes each), the measurement behind
-:data:`~domes.motion.planar.batch.CHUNK`.
+CPU second (with numba's import and cache load when the batch is compiled),
+the route the kernel took, the chunk (mechanisms at once) and the measured
+working bytes per mechanism. ``--kernel`` picks the route. ``--chunks`` adds
+a table of speed against the chunk size (extremes, 10^5 four-bars, two fresh
+processes each), the measurement behind :data:`~domes.motion.planar.batch.CHUNK`.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from bench_kernel import four_bar_template, random_four_bars  # noqa: E402
 
 from domes.io.batchfile import HDF5Sink  # noqa: E402
+from domes.motion.planar import compiled  # noqa: E402
 from domes.motion.planar.batch import MEMORY, ExtremesSink, batch  # noqa: E402
 
 INPUTS = 360
@@ -67,7 +69,7 @@ def child(sink: str, count: int, memory: int, chunk: int | None) -> dict:
     cpu, wall = time.process_time() - t, time.perf_counter() - w
     doc = {"sink": sink, "mechanisms": count, "cpu": cpu, "wall": wall, "rate": count * INPUTS / cpu,
            "peak_mib": _rss_mib(), "before_mib": before, "chunk": out.chunk, "per_mechanism": out.per_mechanism,
-           "message": out.message}
+           "message": out.message, "route": "numba" if compiled.loaded() else "numpy"}
     if sink == "hdf5":
         doc["file_mib"] = os.path.getsize(out.result) / 2**20
         os.unlink(out.result)
@@ -87,12 +89,15 @@ def main(argv=None):
     ap.add_argument("--collect", type=int, default=100_000, help="four-bars collected (and written to HDF5)")
     ap.add_argument("--memory", type=int, default=MEMORY, help="the budget, bytes")
     ap.add_argument("--chunks", action="store_true", help="also time chunk sizes (extremes, 3·10^4 four-bars)")
+    ap.add_argument("--kernel", choices=["auto", "numpy", "numba"], default="auto",
+                    help="the kernel's route (DOMES_KERNEL; auto compiles batches of 2^24 configurations and more)")
     ap.add_argument("--child", nargs=4, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
         sink, count, memory, chunk = args.child
         print(json.dumps(child(sink, int(count), int(memory), int(chunk) or None)))
         return
+    os.environ[compiled.VARIABLE] = args.kernel  # the children inherit it
     try:
         import h5py  # noqa: F401
         sinks = [("extremes", args.mechanisms), ("collect", args.collect), ("hdf5", args.collect)]
@@ -100,13 +105,13 @@ def main(argv=None):
         sinks = [("extremes", args.mechanisms), ("collect", args.collect)]
         print("h5py is not installed: the HDF5 sink is skipped\n")
     print(f"## Bounded batches: random four-bars × {INPUTS} inputs, a coupler point (budget {args.memory:,} B)\n")
-    print("| sink | mechanisms | peak RSS [MiB] | RSS before [MiB] | CPU [s] | wall [s] | positions / CPU s | "
+    print("| sink | route | mechanisms | peak RSS [MiB] | RSS before [MiB] | CPU [s] | wall [s] | positions / CPU s | "
           "chunk | bytes / mechanism |")
-    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
     for sink, count in sinks:
         d = run(sink, count, args.memory)
         extra = f" (file {d['file_mib']:.0f} MiB)" if "file_mib" in d else ""
-        print(f"| {sink}{extra} | {count:,} | {d['peak_mib']:.0f} | {d['before_mib']:.0f} | {d['cpu']:.2f} | "
+        print(f"| {sink}{extra} | {d['route']} | {count:,} | {d['peak_mib']:.0f} | {d['before_mib']:.0f} | {d['cpu']:.2f} | "
               f"{d['wall']:.2f} | {d['rate'] / 1e6:.2f} M | {d['chunk']:,} | {d['per_mechanism']:,} |")
         print(f"<!-- {d['message']} -->")
     if args.chunks:

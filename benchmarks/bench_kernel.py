@@ -15,12 +15,18 @@ Run ``python benchmarks/bench_kernel.py``. It prints, in one run:
    coupler point): time, positions per second, and the error of a sample of
    rows against the reference; beside it the peers' rate on a sample of
    the same four-bars (one mechanism at a time: they have no batch API).
+
+``--kernel`` picks the kernel's route (``domes.motion.planar.compiled``):
+``numpy``, ``numba`` (compiled), or ``both`` (the default: a row for each,
+so the table shows what the compiled route buys). With ``--clock cpu`` the
+peers' loops are timed by CPU time too.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import statistics
 import sys
 import time
@@ -32,6 +38,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
+import peers  # noqa: E402
 from bench_kinematics import reference  # noqa: E402
 from peers import PEERS  # noqa: E402
 
@@ -96,6 +103,15 @@ def example(name):
     return stephenson_iii() if name == "stephenson-iii" else load_mechanism(str(ROOT / "examples" / "mechanisms" / name))
 
 
+#: The kernel's routes a run times (``--kernel``).
+ROUTES = ("numpy", "numba")
+
+
+def _route(route):
+    """Run the kernel by ``route`` from now on (``DOMES_KERNEL``)."""
+    os.environ["DOMES_KERNEL"] = route
+
+
 def sweeps(repeat, names=EXAMPLES):
     rows = []
     for name in names:
@@ -108,9 +124,12 @@ def sweeps(repeat, names=EXAMPLES):
         outputs = [o.name for o in parse_outputs(m, None)] + [f"point:{point}"]  # all outputs and the far joint
         for order in (0, 2):
             kin = Kinematics(m, outputs, order)
-            t, sw = median_time(lambda: run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS), repeat)
-            pts = np.c_[sw.column(f"point:{point}.x"), sw.column(f"point:{point}.y")]
-            rows.append((name, "domes", order, t, sw.max_residual, _error(pts, refs, m.size), len(sw.dead_points)))
+            for route in ROUTES:
+                _route(route)
+                t, sw = median_time(lambda: run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS), repeat)
+                pts = np.c_[sw.column(f"point:{point}.x"), sw.column(f"point:{point}.y")]
+                rows.append((name, f"domes ({route})", order, t, sw.max_residual, _error(pts, refs, m.size),
+                             len(sw.dead_points)))
             if iterated(kin):  # the step-by-step Newton route the arrays replace (once: it is slow)
                 cont = Continuation(kin)
                 t, slow = median_time(lambda: _scalar_sweep(kin, cont, list(qs), None), 1)
@@ -120,14 +139,15 @@ def sweeps(repeat, names=EXAMPLES):
                              f"arrays − steps: {same:.1e} of the scale"))
         for peer, fn in PEERS.items():
             try:
-                got = fn(m, qs, point)
+                got = fn(m, qs, point)  # the first run warms the peer up (numba's dispatch, caches), as ours
             except NotImplementedError as exc:
                 rows.append((name, peer, 0, None, None, None, str(exc)))
                 continue
             if got is None:
                 rows.append((name, peer, 0, None, None, None, "not installed"))
                 continue
-            pts, t = got
+            runs = [fn(m, qs, point) for _ in range(repeat)]
+            pts, t = runs[0][0], statistics.median(dt for _, dt in runs)
             rows.append((name, peer, 0, t, None, _error(pts, refs, m.size), None))
     return rows
 
@@ -159,15 +179,18 @@ def _row(coords, m):
 def batches(count, repeat, peer_sample):
     coords = random_four_bars(count)
     qs = np.radians(np.arange(360.0))
-    t, b = median_time(lambda: batch(four_bar_template(), coords, qs, outputs=["point:P"]), repeat)
-    # Error: 12 complete rows × every 30th input against the reference.
-    worst = 0.0
-    for m in np.flatnonzero(b.kinds == "complete")[:12]:
-        mech = _row(coords, m)
-        refs = _reference_points(mech, qs, "P", 30)
-        pts = {k: (b.values["point:P.x"][m, k], b.values["point:P.y"][m, k]) for k in refs}
-        worst = max(worst, _error(pts, refs, mech.size))
-    rows = [("domes batch", count, t, count * qs.size / t, worst, b.message)]
+    rows = []
+    for route in ROUTES:
+        b = None
+        t, b = median_time(lambda: batch(four_bar_template(), coords, qs, outputs=["point:P"], route=route), repeat)
+        # Error: 12 complete rows × every 30th input against the reference.
+        worst = 0.0
+        for m in np.flatnonzero(b.kinds == "complete")[:12]:
+            mech = _row(coords, m)
+            refs = _reference_points(mech, qs, "P", 30)
+            pts = {k: (b.values["point:P.x"][m, k], b.values["point:P.y"][m, k]) for k in refs}
+            worst = max(worst, _error(pts, refs, mech.size))
+        rows.append((f"domes batch ({route})", count, t, count * qs.size / t, worst, b.message))
     complete = np.flatnonzero(b.kinds == "complete")[:peer_sample]
     for peer, fn in PEERS.items():
         total, done, err = 0.0, 0, 0.0
@@ -203,9 +226,13 @@ def main(argv=None):
     ap.add_argument("--no-batch", action="store_true", help="sweeps only")
     ap.add_argument("--clock", choices=["wall", "cpu"], default="wall", help="time by the wall clock or by the "
                     "process's CPU time (steadier on a busy machine)")
+    ap.add_argument("--kernel", choices=["numpy", "numba", "both"], default="both",
+                    help="the kernel's route: numpy, compiled (numba), or a row for each")
     args = ap.parse_args(argv)
-    global CLOCK
+    global CLOCK, ROUTES
     CLOCK = time.process_time if args.clock == "cpu" else time.perf_counter
+    peers.CLOCK = CLOCK
+    ROUTES = ("numpy", "numba") if args.kernel == "both" else (args.kernel,)
     names = args.only.split(",") if args.only else EXAMPLES
     unknown = sorted(set(names) - set(EXAMPLES))
     if unknown:

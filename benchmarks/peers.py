@@ -37,6 +37,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+#: The clock the solving loops are timed by: wall time, or ``time.process_time`` (CPU time of this process) when a
+#: benchmark runs with ``--clock cpu`` (``bench_kernel.py`` sets it).
+CLOCK = time.perf_counter
+
 #: Examples of ``examples/mechanisms`` and the joint compared: one solved in the last group.
 EXAMPLES = {"four-bar.json": "C", "watt-six-bar.json": "f", "stephenson-six-bar.json": "G"}
 STEPS = 3600
@@ -114,14 +118,14 @@ def pyslvs_sweep(mech, qs, point, api="tinycadlib"):
         _check_drawn(mech, names, solve(math.degrees(q_drawn + offset)), "Pyslvs")
         degrees = np.degrees(angles).tolist()
         slider = vpoints[index].is_slider()
-        t0 = time.perf_counter()
+        t0 = CLOCK()
         for k, a in enumerate(degrees):
             try:
                 c = pyslvs.expr_solving(exprs, vpoints, {pair: a})[index]
             except ValueError:  # cannot be assembled at this input
                 continue
             rows[k] = c[1] if slider else c
-        return np.array(rows, dtype=float), time.perf_counter() - t0
+        return np.array(rows, dtype=float), CLOCK() - t0
     if api != "tinycadlib":
         raise ValueError(f"api must be 'tinycadlib' or 'expr_solving', got {api!r}")
     drawn = {f"P{k}": _points(mech)[name][1] for k, name in enumerate(names)}
@@ -141,11 +145,11 @@ def pyslvs_sweep(mech, qs, point, api="tinycadlib"):
     at_drawn = solve(q_drawn + offset)
     _check_drawn(mech, names, [(at_drawn[f"P{k}"].x, at_drawn[f"P{k}"].y) for k in range(len(names))], "Pyslvs")
     key = f"P{index}"
-    t0 = time.perf_counter()
+    t0 = CLOCK()
     for k, a in enumerate(angles):
         c = solve(a)[key]
         rows[k] = (c.x, c.y)  # NaN where it cannot be assembled
-    return np.array(rows, dtype=float), time.perf_counter() - t0
+    return np.array(rows, dtype=float), CLOCK() - t0
 
 
 def _pyslvs_model(pyslvs, mech):
@@ -273,14 +277,14 @@ def pylinkage_sweep(mech, qs, point):
     if HAS_NUMBA:
         index = linkage.components.index(target)
         linkage.step_fast(iterations=max(n, 1), dt=turn / (max(n, 1) * dq))  # also compiles
-        t0 = time.perf_counter()
+        t0 = CLOCK()
         out = linkage.step_fast(iterations=qs.size)[:, index]
-        return out, time.perf_counter() - t0
+        return out, CLOCK() - t0
     for _ in linkage.step(iterations=n, dt=turn / (n * dq) if n else 0.0):
         pass
-    t0 = time.perf_counter()
+    t0 = CLOCK()
     rows = [target.position for _ in linkage.step(iterations=qs.size)]
-    seconds = time.perf_counter() - t0
+    seconds = CLOCK() - t0
     return np.array(rows, dtype=float), seconds
 
 
@@ -357,10 +361,20 @@ def _rrp(pylinkage, mech, slide, points, parts, placed, extra):
     return True
 
 
+def pylinkage_label() -> str:
+    """pylinkage's row label: whether it is timed with numba (``step_fast``) or without (``step``); found without
+    importing either."""
+    from importlib.util import find_spec
+
+    if find_spec("pylinkage") is None:
+        return "pylinkage"
+    return "pylinkage (numba, step_fast)" if find_spec("numba") else "pylinkage (no numba, step)"
+
+
 #: The peers a benchmark runs, by label: Pyslvs's per-angle API, the same stack run through its geometry
-#: functions (the route of its C++ solver), and pylinkage.
+#: functions (the route of its C++ solver), and pylinkage (with numba when installed: its ``step_fast``).
 PEERS = {"Pyslvs expr_solving": partial(pyslvs_sweep, api="expr_solving"),
-         "Pyslvs tinycadlib": pyslvs_sweep, "pylinkage": pylinkage_sweep}
+         "Pyslvs tinycadlib": pyslvs_sweep, pylinkage_label(): pylinkage_sweep}
 
 
 def main():
@@ -380,9 +394,9 @@ def main():
         kin = Kinematics(mech, [f"point:{point}"], 0)
         times = []
         for _ in range(REPEAT):
-            t0 = time.perf_counter()
+            t0 = CLOCK()
             ours = run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS)
-            times.append(time.perf_counter() - t0)
+            times.append(CLOCK() - t0)
         assert ours.inputs.size == qs.size and np.allclose(ours.inputs, qs, rtol=0, atol=1e-12)
         mine = np.c_[ours.column(f"point:{point}.x"), ours.column(f"point:{point}.y")]
         print(f"\n{name} (joint {point}):")
