@@ -220,17 +220,18 @@ def path_task(target: dict) -> dict:
     return task
 
 
-def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 64, starts: int = 512):
+def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 64, starts: int = 512,
+               timed_starts: int = 60):
     """Our answer to a target by the best route: ``(FourBar, crank angles or None, route)``, or ``(None, None,
     route)`` when the route finds nothing.
 
     With timing, the path task (``domes synthesize``, least squares of the prescribed timing, ``seeds`` × 8
-    starts) and the bounded least squares of :func:`domes.motion.coupler.minimax.timed_fit` (its minima held to
-    links of at most 10 times the size, where the path task's run off), the answer whose kernel-checked error at
-    the prescribed angles is smallest (the bounded one only when the kernel drives it through every prescribed
-    angle in one motion). Without timing, nine
-    points or more: the atlas look-up and least squares of ``domes curves match`` (``candidates`` refined; the
-    closed atlas ``closed`` or, for an open or partial path, the window index ``opened``), the best fit then
+    starts) and the bounded least squares of :func:`domes.motion.coupler.minimax.timed_fit` (``timed_starts``
+    random starts, its minima held to links of at most 10 times the size, where the path task's run off): the
+    answer whose kernel-checked error at the prescribed angles is smallest (the bounded one only when the kernel
+    drives it through every prescribed angle in one motion). Without timing, nine points or more: the atlas
+    look-up and least squares of ``domes curves match`` (``candidates`` refined; the closed atlas ``closed`` or,
+    for an open or partial path, the window index ``opened``), the best fit then
     polished towards the smallest worst point (:func:`domes.motion.coupler.minimax.polish`). Fewer points: the
     path task's least squares with no pivot given (``starts`` random starts), the root whose points lie on one
     circuit of its curve (the smallest worst error on the kernel's trace).
@@ -249,7 +250,7 @@ def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 6
         given = {"ax": task["a0"][0], "ay": task["a0"][1]} if "a0" in task else {}
         if "b0y" in task.get("given", {}):
             given["dy"] = task["given"]["b0y"]
-        boxed = timed_fit(pts, np.asarray(crank_angles(target, 0.0)[1:]), given)
+        boxed = timed_fit(pts, np.asarray(crank_angles(target, 0.0)[1:]), given, timed_starts)
         if boxed is not None:
             fb, angles = fourbar_of(boxed[0]), crank_angles(target, boxed[1])
             r = replay(fb, angles, ["point:P"])
