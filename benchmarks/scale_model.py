@@ -93,11 +93,13 @@ def main() -> int:
             picked = sorted(random.Random(args.seed).sample(range(parts), min(args.sample, parts)))
             shared = run.share(pickle.dumps(starts, protocol=pickle.HIGHEST_PROTOCOL))
             start = time.perf_counter()
-            kept = 0
+            kept, cpu = 0, 0.0
             with get_task_stream(run.client) as stream:
                 for _, result in run.completed(augment.walk_part, [(shared, i, parts, loops, args.dof)
                                                                     for i in picked]):
-                    kept += pickle.loads(result)[1].kept
+                    stats = pickle.loads(result)[1]
+                    kept += stats.kept
+                    cpu += stats.seconds                 # CPU time in the walks (the forecast's measure)
             wall = time.perf_counter() - start
             count = kept
         else:
@@ -110,7 +112,7 @@ def main() -> int:
     serial = wall - covered
     what = f"{len(picked)} of {parts} parts" if args.sample else "the atlas"
     print(f"{args.links} links, DOF {args.dof}, {what}: {count:,} chains in {wall:.1f} s on {args.workers} workers")
-    print(f"  work in tasks W = {work:.1f} s ({tasks} tasks; per worker "
+    print(f"  work in tasks W = {work:.1f} s of wall time ({tasks} tasks; per worker "
           + ", ".join(f"{s:.1f} s" for s in per_worker.values()) + ")")
     print(f"  wall time with a task running {covered:.1f} s: imbalance beta = {beta:.2f}; the rest S = {serial:.1f} s")
     print("  peak memory of each worker: " + ", ".join(f"{p / 2**20:.0f} MiB" for p in peaks.values()))
@@ -118,10 +120,10 @@ def main() -> int:
         share = len(picked) / parts
         expect_wall = IMBALANCE * f.work * share / args.workers
         print(f"  the forecast for these parts: {f.count * share:,.0f} chains (walked {count:,}: "
-              f"{count / (f.count * share):.2f}x), work {f.work * share:.1f} s (measured {work:.1f} s: "
-              f"{work / (f.work * share):.2f}x), wall {expect_wall:.1f} s (measured {wall:.1f} s: "
+              f"{count / (f.count * share):.2f}x), CPU {f.work * share:.1f} s (measured {cpu:.1f} s: "
+              f"{cpu / (f.work * share):.2f}x), wall {expect_wall:.1f} s (measured {wall:.1f} s: "
               f"{wall / expect_wall:.2f}x); starts {planned:.1f} s")
-        print(f"  the whole atlas, from this sample: {count / share:,.0f} chains, work {work / share:.0f} s")
+        print(f"  the whole atlas, from this sample: {count / share:,.0f} chains, CPU {cpu / share:.0f} s")
     elif f is not None:
         print(f"  the forecast: {f.count:,.0f} chains ({count / f.count:.2f}x built), work {f.work:.1f} s "
               f"({work / f.work:.2f}x measured), {f.seconds_on(args.workers):.1f} s on {args.workers} workers "

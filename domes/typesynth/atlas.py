@@ -748,9 +748,10 @@ GROWTH_PER_TWO_LINKS = 30
 
 #: Forecasts of atlases made by augmentation walk this many of their parts, drawn at random, here ...
 FORECAST_PARTS = 4
-#: ... and add, per chain, the time this process takes to merge the parts' records and write the atlas, and the
-#: memory it holds (a record and its list entry; its graph6 line twice with --out), measured on 14 links ...
-MERGE_SECONDS_PER_CHAIN = 6e-6
+#: ... and add, per chain, the CPU time this process takes to merge the parts' records into graph6 lines (1.5 µs:
+#: 318,162 records of 14 links in 65 parts) and the memory it holds (a record and its list entry: the 14-link
+#: run's main process peaked at 162 MiB, about 130 bytes a chain above its start) ...
+MERGE_SECONDS_PER_CHAIN = 1.5e-6
 HELD_BYTES_PER_CHAIN = 130
 #: ... and, per process, its memory before any part (Python, numpy, nauty, a Dask worker) ...
 PROCESS_BYTES = 1.6e8
