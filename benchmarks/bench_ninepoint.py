@@ -7,7 +7,7 @@ branch, order or dead-point defect, the kernel on every point), the largest Newt
 (the points scaled to size 1), the largest kernel distance of a usable linkage from a point over the size, the
 paths tracked again, and the time per query (CPU and wall). Then Problem 7 (five points, two pivots).
 
-    python benchmarks/bench_ninepoint.py [--queries 20] [--seed 0] [--no-check]
+    python benchmarks/bench_ninepoint.py [--queries 20] [--seed 0] [--first 0] [--no-check]
 """
 
 import argparse
@@ -23,6 +23,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--queries", type=int, default=20)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--first", type=int, default=0, help="skip the first queries (their points are still drawn)")
     ap.add_argument("--no-check", action="store_true", help="skip the kernel checks of the real solutions")
     args = ap.parse_args(argv)
     rng = np.random.default_rng(args.seed)
@@ -30,6 +31,8 @@ def main(argv=None):
     print("query classes solutions real usable max-residual max-usable-distance/size retracked cpu-s wall-s")
     for q in range(args.queries):
         points = rng.uniform(0, 1, (9, 2))
+        if q < args.first:
+            continue
         c0, w0 = time.process_time(), time.perf_counter()
         r = nine_point_path(points, seed=q, check_mechanisms=not args.no_check)
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
