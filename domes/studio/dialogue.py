@@ -76,7 +76,7 @@ def _flag(body: dict, key: str, default: bool) -> bool:
 def knobs_of(body: dict, recorded: dict | None) -> tuple[str, int, float | None]:
     """The dimensioning's method and seeds and the time budget, as ``domes design`` takes them (``--method``,
     ``--seeds``, ``--time-budget``); a replayed transcript's own knobs unless the body says otherwise."""
-    from domes.design.feasibility import METHODS
+    from domes.design.methods import METHODS
 
     recorded = recorded if isinstance(recorded, dict) else {}
     method = body.get("method", recorded.get("method", "fast"))
