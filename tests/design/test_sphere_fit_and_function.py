@@ -288,17 +288,22 @@ def test_d_r_of_2_110_and_its_alpha_derivative():
     np.testing.assert_allclose(dD, fd, atol=1e-8)
 
 
+def spatial(g, u) -> SpatialMechanism:
+    """Generator ``g`` as a spatial mechanism: four R joints through one point, the output axis ``u``."""
+    joints = (SpatialJoint("A0", "R", ("frame", "input"), (1.0, 0, 0), (1.0, 0, 0)),
+              SpatialJoint("A", "R", ("input", "coupler"), tuple(g.a1), tuple(g.a1)),
+              SpatialJoint("B", "R", ("coupler", "output"), tuple(g.b1), tuple(g.b1)),
+              SpatialJoint("B0", "R", ("frame", "output"), u, u))
+    return SpatialMechanism.build("spherical four-bar", ("frame", "input", "coupler", "output"), "frame", joints,
+                                  (SpatialInput("A0"),))
+
+
 def swept(g, th) -> np.ndarray:
     """The output angle of generator ``g`` at the inputs ``th`` (rad, from the drawn pose 0) when the general
     spatial solver (domes/motion/spatial/sweep.py) walks its four R joints through one point by continuity;
     NaN at the inputs the walk does not reach."""
     u = (math.cos(g.alpha), math.sin(g.alpha), 0.0)
-    joints = (SpatialJoint("A0", "R", ("frame", "input"), (1.0, 0, 0), (1.0, 0, 0)),
-              SpatialJoint("A", "R", ("input", "coupler"), tuple(g.a1), tuple(g.a1)),
-              SpatialJoint("B", "R", ("coupler", "output"), tuple(g.b1), tuple(g.b1)),
-              SpatialJoint("B0", "R", ("frame", "output"), u, u))
-    mech = SpatialMechanism.build("spherical four-bar", ("frame", "input", "coupler", "output"), "frame", joints,
-                                  (SpatialInput("A0"),))
+    mech = spatial(g, u)
     kin = Loops(mech, ["angle:B0"])
     out = np.full(len(th), math.nan)
     for side in (1.0, -1.0):
@@ -458,12 +463,7 @@ def test_a_five_point_solution_moved_by_the_spatial_solver():
     found = function_generator(th, ph, alpha)
     (mine,) = [s for s in found if same(s.generator, alpha, a1, b1)]
     g = mine.generator
-    joints = (SpatialJoint("A0", "R", ("frame", "input"), (1.0, 0, 0), (1.0, 0, 0)),
-              SpatialJoint("A", "R", ("input", "coupler"), tuple(g.a1), tuple(g.a1)),
-              SpatialJoint("B", "R", ("coupler", "output"), tuple(g.b1), tuple(g.b1)),
-              SpatialJoint("B0", "R", ("frame", "output"), u, u))
-    mech = SpatialMechanism.build("spherical four-bar", ("frame", "input", "coupler", "output"), "frame", joints,
-                                  (SpatialInput("A0"),))
+    mech = spatial(g, u)
     sw = spatial_sweep(mech, 0.0, th[-1], math.radians(5), outputs=["angle:B0"])
     at = [int(np.argmin(np.abs(sw.inputs - t))) for t in th]
     np.testing.assert_allclose(sw.inputs[at], th, atol=1e-12)

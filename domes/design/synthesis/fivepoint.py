@@ -25,6 +25,7 @@ from domes.design.synthesis.ninepoint import (
     FIVE_POINT_COUNT,
     RESIDUAL,
     NinePointSolution,
+    Solutions,
     certify,
     check_points,
     solution,
@@ -39,20 +40,12 @@ PROBLEM_7 = ((0.50, 1.06), (-0.83, -0.27), (-0.34, 0.22), (-0.13, 0.43), (0.22, 
 
 
 @dataclass(frozen=True, eq=False)
-class FivePointPivots(Result):
+class FivePointPivots(Solutions, Result):
     """The finite solutions (``solutions``), the paths gone to infinity or failed (``infinite``), the time."""
 
     solutions: tuple[NinePointSolution, ...]
     infinite: int
     seconds: float
-
-    @property
-    def real(self) -> tuple[NinePointSolution, ...]:
-        return tuple(s for s in self.solutions if s.real)
-
-    @property
-    def usable(self) -> tuple[NinePointSolution, ...]:
-        return tuple(s for s in self.solutions if s.usable)
 
     @property
     def status(self) -> Status:

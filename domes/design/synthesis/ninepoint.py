@@ -118,8 +118,20 @@ class NinePointSolution:
         return self.real and self.checks is not None and not self.defects
 
 
+class Solutions:
+    """The real and the usable ones among a result's ``solutions``."""
+
+    @property
+    def real(self) -> tuple[NinePointSolution, ...]:
+        return tuple(s for s in self.solutions if s.real)
+
+    @property
+    def usable(self) -> tuple[NinePointSolution, ...]:
+        return tuple(s for s in self.solutions if s.usable)
+
+
 @dataclass(frozen=True, eq=False)
-class NinePointPath(Result):
+class NinePointPath(Solutions, Result):
     """Every solution through nine points, grouped by class (``classes[k]``: the six members of class ``k``)."""
 
     points: tuple
@@ -134,14 +146,6 @@ class NinePointPath(Result):
     @property
     def solutions(self) -> tuple[NinePointSolution, ...]:
         return tuple(s for c in self.classes for s in c)
-
-    @property
-    def real(self) -> tuple[NinePointSolution, ...]:
-        return tuple(s for s in self.solutions if s.real)
-
-    @property
-    def usable(self) -> tuple[NinePointSolution, ...]:
-        return tuple(s for s in self.solutions if s.usable)
 
     @property
     def status(self) -> Status:
