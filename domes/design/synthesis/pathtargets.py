@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from domes.design.synthesis.fourbars import FourBar
+from domes.design.synthesis.pathroute import fourbar_of, polished_path
 from domes.design.synthesis.verify import replay
 from domes.errors import InputError
 from domes.motion.coupler.curves import trace
@@ -197,11 +198,6 @@ def measure(fb: FourBar, points, angles=None, samples: int = SAMPLES) -> Measure
     return Measured(float(np.max(d)), float(np.sqrt(np.mean(d ** 2))), float(np.max(e)), float(np.sqrt(np.mean(e ** 2))))
 
 
-def fourbar_of(mech) -> FourBar:
-    """The four-bar of a matched mechanism (joints ``A B C D``, coupler point ``P``) drawn as it is."""
-    return FourBar(*(mech.joint(n).at for n in "ABCD"), mech.point("P")[1])
-
-
 def timed(target: dict) -> bool:
     """Whether the target prescribes the crank's angles at its points."""
     return "crank_deg" in target or "crank_step_deg" in target
@@ -225,14 +221,13 @@ def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 6
     """Our answer to a target by the best route: ``(FourBar, crank angles or None, route)``, or ``(None, None,
     route)`` when the route finds nothing.
 
-    With timing, the path task (``domes synthesize``, least squares of the prescribed timing, ``seeds`` × 8
-    starts) and the bounded least squares of :func:`domes.motion.coupler.minimax.timed_fit` (``timed_starts``
-    random starts, its minima held to links of at most 10 times the size, where the path task's run off): the
-    answer whose kernel-checked error at the prescribed angles is smallest (the bounded one only when the kernel
-    drives it through every prescribed angle in one motion). Without timing, nine points or more: the atlas
+    With timing: the path task of ``domes synthesize`` (``seeds`` × 8 starts), whose route ends, when its own
+    fit misses, in the bounded least squares of :func:`domes.motion.coupler.minimax.timed_fit` (``timed_starts``
+    random starts; :mod:`.pathroute`): the answer whose kernel-checked error at the prescribed angles is
+    smallest. Without timing, nine points or more: the atlas
     look-up and least squares of ``domes curves match`` (``candidates`` refined; the closed atlas ``closed`` or,
-    for an open or partial path, the window index ``opened``), the best fit then
-    polished towards the smallest worst point (:func:`domes.motion.coupler.minimax.polish`). Fewer points: the
+    for an open or partial path, the window index ``opened``), the best fit then polished towards the smallest
+    worst point (:func:`.pathroute.polished_path`, as the path task). Fewer points: the
     path task's least squares with no pivot given (``starts`` random starts), the root whose points lie on one
     circuit of its curve (the smallest worst error on the kernel's trace).
     """
@@ -240,24 +235,18 @@ def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 6
     from domes.design.synthesis.solve import synthesize
     from domes.design.synthesis.task import task_from_dict
     from domes.motion.coupler.match import match
-    from domes.motion.coupler.minimax import polish, timed_fit
 
     pts = np.asarray(target["points"], dtype=float)
     if timed(target):
-        task = path_task(target)
-        answers = [(max(s.residuals), s.fourbar, crank_angles(target, s.claim.angles[0]), "path task (timing)")
-                   for s in synthesize(task_from_dict(task), "fast", seeds).solutions]
-        given = {"ax": task["a0"][0], "ay": task["a0"][1]} if "a0" in task else {}
-        if "b0y" in task.get("given", {}):
-            given["dy"] = task["given"]["b0y"]
-        boxed = timed_fit(pts, np.asarray(crank_angles(target, 0.0)[1:]), given, timed_starts)
-        if boxed is not None:
-            fb, angles = fourbar_of(boxed[0]), crank_angles(target, boxed[1])
-            r = replay(fb, angles, ["point:P"])
-            if r.dead is None:                   # the crank reaches every prescribed angle in one motion
-                xy = np.c_[r.values["point:P.x"], r.values["point:P.y"]]
-                answers.append((float(np.max(np.linalg.norm(xy - pts, axis=1))), fb, angles,
-                                "bounded least squares (timing)"))
+        result = synthesize(task_from_dict(path_task(target)), "fast", seeds, timed_starts=timed_starts)
+        answers = []
+        for s in result.solutions:
+            angles = crank_angles(target, s.claim.angles[0])
+            r = replay(s.fourbar, angles, ["point:P"])
+            xy = np.c_[r.values["point:P.x"], r.values["point:P.y"]]
+            worst = float(np.max(np.linalg.norm(xy - pts, axis=1))) if r.dead is None else math.inf
+            route = next((n[len("route: "):] for n in s.notes if n.startswith("route: ")), "path task")
+            answers.append((worst, s.fourbar, angles, route + " (timing)"))
         answers = [a for a in answers if np.isfinite(a[0])]
         if not answers:
             return None, None, "path task and bounded least squares: no answer"
@@ -280,7 +269,6 @@ def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 6
         linkages = [FourBar(f.a0, f.a1, f.b1, f.b0, tuple(pts[0])) for f in found]
         best = min(linkages, key=lambda fb: float(np.max(curve_errors(fb, pts))))
         return best, None, "path least squares, no pivot given"
-    polished, (worst, _) = polish(start.mechanism, pts)
-    if worst < start.after[0]:
-        return fourbar_of(polished), None, route + ", polished"
-    return fourbar_of(start.mechanism), None, route
+    start = fourbar_of(start.mechanism)
+    found = polished_path(start, pts)
+    return (found[0], None, route + ", polished") if found is not None else (start, None, route)

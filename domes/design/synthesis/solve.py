@@ -41,6 +41,7 @@ from domes.design.synthesis import function as fn
 from domes.design.synthesis import guidance as gd
 from domes.design.synthesis import path as pt
 from domes.design.synthesis import pathfit as pf
+from domes.design.synthesis import pathroute as pr
 from domes.design.synthesis import sliders as sl
 from domes.design.synthesis import verify as vf
 from domes.design.synthesis.candidate import CurveTask, Dimensioning, SolutionSet, dimension
@@ -141,7 +142,8 @@ class Synthesis(SolutionSet):
 
 def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, executor=None,
                min_transmission_deg: float | None = None, tolerance: float | None = None,
-               max_link_ratio: float | None = None, atlas=None) -> Synthesis | Dimensioning:
+               max_link_ratio: float | None = None, atlas=None, timed_starts: int = pr.TIMED_STARTS,
+               ) -> Synthesis | Dimensioning:
     """Dimension a four-bar for ``task`` (guidance, function, rotations or path): every real solution, checked.
 
     A :class:`~domes.design.synthesis.candidate.CurveTask` dimensions its
@@ -172,7 +174,8 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
     (:class:`~domes.motion.coupler.atlas.Atlas`) whose look-up and refinement
     (``domes curves match``) seed the least squares besides the random
     starts; None builds a quick one in memory once (:func:`seed_atlas`);
-    False leaves the look-up out.
+    False leaves the look-up out. ``timed_starts``: the random starts of the bounded least squares a path
+    task with prescribed timing ends in when its own fit misses (:func:`.pathroute.bounded_timing`).
     """
     if method not in ("exact", "fast"):
         raise InputError(f"method must be 'exact' or 'fast', got {method!r}")
@@ -212,7 +215,8 @@ def synthesize(task, method: str = "exact", seeds: int = 64, progress=None, exec
         roots, sols, notes = _function(task, **knobs)
         kind, what = "function", "precision point"
     else:
-        roots, sols, notes = _path(task, tol, (size, extent, ratio), progress=progress, atlas=atlas, **knobs)
+        roots, sols, notes = _path(task, tol, (size, extent, ratio), progress=progress, atlas=atlas,
+                                   timed_starts=timed_starts, **knobs)
         kind, what = "path", "point"
     sols, groups = _settle(sols, tol, ratio, size, extent, what)
     notes = list(notes) + [g.text for g in groups]
@@ -424,12 +428,12 @@ def generator_fourbar(g: fn.FunctionGenerator, theta: float, phi: float) -> Four
 # -- path generation ----------------------------------------------------------------------------
 
 def _path(task: PathTask, tol: float, scale: tuple, method: str = "exact", seeds: int = 64, progress=None,
-          atlas=None):
+          atlas=None, timed_starts: int = pr.TIMED_STARTS):
     """The path routes; ``scale`` is the task's ``(size, extent, max_link_ratio)``."""
     kind = "exact" if task.exhaustive else pf.check_given(len(task.points), dict(task.given), task.crank)
     notes = _path_notes(task, tol, kind)
     if not task.exhaustive:
-        roots, sols, more = _path_fit(task, scale, method, seeds, progress, atlas)
+        roots, sols, more = _path_fit(task, scale, method, seeds, progress, atlas, tol, timed_starts)
         return roots, sols, notes + more
     a0, b0 = task.pivot("a0"), task.pivot("b0")
     found = pt.five_points(task.points, a0, b0, method=method, seeds=seeds, progress=progress)
@@ -493,7 +497,8 @@ def _point(p) -> str:
     return f"({p[0]:.6g}, {p[1]:.6g})"
 
 
-def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=None, atlas=None):
+def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=None, atlas=None, tol=None,
+              timed_starts: int = pr.TIMED_STARTS):
     """Table 2-1's other free choices, prescribed input angles, or least squares (:mod:`.pathfit`); an exact
     problem with no root found but degenerate ones is answered by least squares, and the notes say so."""
     given = dict(task.given)
@@ -512,7 +517,7 @@ def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=No
     sols, listed, roots = [], [], 0
     if kind == "exact" and not notes:
         found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress, seeded=seeded, info=info)
-        sols = [_fit_solution(task, f, "exact") for f in found]
+        sols = [_fit_solution(task, f, "exact", "exact roots (Table 2-1)") for f in found]
         listed = [x for x in sols if vf.degenerate_kind(x.fourbar, x.poses, scale[1], scale[0], scale[2]) is None]
         roots = len(found)
         note = (f"{len(found)} distinct real root(s) found from {starts} random starts"
@@ -525,7 +530,7 @@ def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=No
     if kind == "exact" and not listed:
         found = pf.fit(task.points, given, task.crank, starts=starts, least_squares_only=True, progress=progress,
                        left_out=left_out, seeded=seeded, info=info)
-        sols += [_fit_solution(task, f, "least squares") for f in found]
+        sols += [_fit_solution(task, f, "least squares", _least_squares(seeded)) for f in found]
         notes.append("answered by least squares: the nearest four-bars, each with its distance from every point"
                      if found else "nor by least squares: no minimum met every point on one assembly mode with links "
                      "of useful length; try more starts (seeds) or other points")
@@ -533,7 +538,7 @@ def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=No
     elif kind == "least squares":
         found = pf.fit(task.points, given, task.crank, starts=starts, progress=progress, left_out=left_out,
                        seeded=seeded, info=info)
-        sols = [_fit_solution(task, f, kind) for f in found]
+        sols = [_fit_solution(task, f, kind, _least_squares(seeded)) for f in found]
         roots = len(found)
     if kind == "least squares":
         note = (f"least squares: {eqs} equations in {unknowns - len(given)} unknowns (Table 2-1); the {len(found)} "
@@ -543,7 +548,57 @@ def _path_fit(task: PathTask, scale: tuple, method: str, seeds: int, progress=No
                    info.get("random starts", starts) else ""))
         if left_out:
             note += "; left out as degenerate: " + ", ".join(f"{count} {why}" for why, count in left_out.items())
-    return roots, sols, notes + [note] + ([seed_note] if seed_note else [])
+    sols, last = _last_steps(task, sols, scale[0] * _first(tol, task.tolerance, vf.TOLERANCE), timed_starts)
+    return roots, sols, notes + [note] + ([seed_note] if seed_note else []) + last
+
+
+def _least_squares(seeded) -> str:
+    return "least squares" + (" (atlas and random starts)" if seeded else " (random starts)")
+
+
+def _last_steps(task: PathTask, sols: list, within: float, starts: int = pr.TIMED_STARTS):
+    """The path route's last steps (:mod:`.pathroute`, as the published-targets benchmark): without timing and
+    with no pivot given, the best least-squares linkage's worst point polished, kept when that lowers it; with
+    timing, the bounded least squares of the timing when no answer is within ``within`` (the tolerance as a
+    length) and it comes nearer than the best. ``(solutions, notes)``."""
+    P = np.asarray(task.points, dtype=float)
+    if task.crank is None:
+        fits = [s for s in sols if s.claim is not None and s.claim.on_curve]
+        if task.given or not fits:
+            return sols, []
+        best = min(fits, key=lambda s: max(curve_distances(s.fourbar, P)))
+        if max(curve_distances(best.fourbar, P)) <= within:
+            return sols, []
+        found = pr.polished_path(best.fourbar, P)
+        f = None if found is None else pf.seed_from(P, (found[0].a0, found[0].a1, found[0].b1, found[0].b0,
+                                                        found[0].point))
+        if f is None:
+            return sols, ["worst-point polish of the best least-squares linkage: no lower worst point"]
+        return sols + [_fit_solution(task, f, "least squares", "least squares, then the worst point polished")], [
+            f"worst-point polish of the best least-squares linkage: worst point {found[1]:.3g} -> {found[2]:.3g}"]
+    timed = [(_timed_worst(s.fourbar, s.claim.angles, P), s) for s in sols if s.claim is not None]
+    best = min((w for w, _ in timed), default=math.inf)
+    if best <= within:
+        return sols, []
+    found = pr.bounded_timing(P, task.crank, dict(task.given), starts)
+    if found is None or not found[2] < best:
+        return sols, ["bounded least squares of the timing: no nearer linkage"]
+    fb = found[0]
+    f = pf.seed_from(P, (fb.a0, fb.a1, fb.b1, fb.b0, fb.point))
+    if f is None:
+        return sols, ["bounded least squares of the timing: no nearer linkage"]
+    return sols + [_fit_solution(task, f, "least squares", "bounded least squares of the timing")], [
+        f"bounded least squares of the timing: largest distance {found[2]:.3g} (the path task's best: {best:.3g})"]
+
+
+def _timed_worst(fb: FourBar, angles, points) -> float:
+    """The largest distance of the coupler point from ``points`` at the crank ``angles`` (the kernel); inf where
+    the loop does not close."""
+    r = vf.replay(fb, angles, ["point:P"])
+    if r.dead is not None:
+        return math.inf
+    d = np.linalg.norm(np.c_[r.values["point:P.x"], r.values["point:P.y"]] - points, axis=1)
+    return float(np.max(d)) if np.all(np.isfinite(d)) else math.inf
 
 
 #: Atlas candidates refined for the seeds of a path task, and the fits wanted (as ``domes curves match``).
@@ -601,9 +656,10 @@ def atlas_seeds(task: PathTask, atlas=None, progress=None) -> tuple[list[pf.Path
                    "least squares with the random starts")
 
 
-def _fit_solution(task: PathTask, f: pf.PathFit, kind: str) -> Solution:
+def _fit_solution(task: PathTask, f: pf.PathFit, kind: str, route: str) -> Solution:
     """A solution of :func:`.pathfit.fit` with its checks and its claim: the points at its crank angles (exact),
-    at the prescribed ones (timing), or anywhere on its coupler curve (least squares)."""
+    at the prescribed ones (timing), or anywhere on its coupler curve (least squares); its notes say the
+    ``route`` that found it."""
     fb = FourBar(f.a0, f.a1, f.b1, f.b0, task.points[0])
     A, B = pt.coupler_positions(task.points, pt.PathSolution(f.a1, f.b1, f.rotations, f.residual))
     checks = check(fb, A, B)
@@ -619,7 +675,7 @@ def _fit_solution(task: PathTask, f: pf.PathFit, kind: str) -> Solution:
         far = curve_distances(fb, task.points)
         extra = (f"least squares: distance of the points from the coupler curve {max(far):.3g} largest, "
                  f"{float(np.sqrt(np.mean(np.square(far)))):.3g} RMS",)
-    return Solution(fb, checks, _crank_residuals(A, B, f.a0, f.a1, f.b0, f.b1), extra + (
+    return Solution(fb, checks, _crank_residuals(A, B, f.a0, f.a1, f.b0, f.b1), (f"route: {route}",) + extra + (
         "coupler rotations θ1j " + ", ".join(f"{math.degrees(r):.4f}°" for r in f.rotations),),
         poses=_poses(A, B), claim=claim)
 
