@@ -30,7 +30,7 @@ ENTRIES = {
     "guidance": {"positions", "circle_points", "centre_points", "circle_x", "slider_directions_deg", "slider"} | CHECKED,
     "function": {"function", "range", "input_deg", "output_deg", "points", "frame", "respace", "start_deg",
                  "rotations_deg", "rocker_pin"} | CHECKED,
-    "path": {"points", "crank_deg", "a0", "a1", "b0", "b1", "given", "driver"} | CHECKED,
+    "path": {"points", "crank_deg", "a0", "a1", "b0", "b1", "given", "driver", "route"} | CHECKED,
     "curve": {"scene", "candidates", "input", "point", "wanted", "box", "limits"},
 }
 COMMON = {"kind", "name", "description", "comment", "min_transmission_deg"}

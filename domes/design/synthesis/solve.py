@@ -432,6 +432,9 @@ def _path(task: PathTask, tol: float, scale: tuple, method: str = "exact", seeds
     """The path routes; ``scale`` is the task's ``(size, extent, max_link_ratio)``."""
     kind = "exact" if task.exhaustive else pf.check_given(len(task.points), dict(task.given), task.crank)
     notes = _path_notes(task, tol, kind)
+    if task.route == "exact":
+        roots, sols, more = _nine_points(task, progress)
+        return roots, sols, notes + more
     if not task.exhaustive:
         roots, sols, more = _path_fit(task, scale, method, seeds, progress, atlas, tol, timed_starts)
         return roots, sols, notes + more
@@ -448,6 +451,30 @@ def _path(task: PathTask, tol: float, scale: tuple, method: str = "exact", seeds
     where = (f"on {pt.GRID} × {pt.GRID} grids of (θ12, θ13) and (θ14, θ15)" if method == "exact"
              else f"from {seeds} random starts (fast: some roots may be missing)")
     return len(found), sols, notes + [f"{len(found)} real solution(s) {where}"]
+
+
+def _nine_points(task: PathTask, progress=None):
+    """Every four-bar through nine points (:func:`.ninepoint.nine_point_path`): the real ones listed, the counts
+    of classes, solutions, real and usable ones in the notes."""
+    from domes.design.synthesis import ninepoint as nine
+
+    found = nine.nine_point_path(task.points, progress=progress)
+    P = np.asarray(task.points, dtype=float)
+    sols = []
+    for s in found.real:
+        z = np.array(s.z)
+        z[:8] /= found.size
+        fb, A, B = nine.real_fourbar(z, P, found.size)
+        checks = s.checks if s.checks is not None else check(fb, A, B)
+        sols.append(Solution(fb, checks, _crank_residuals(A, B, fb.a0, fb.a1, fb.b0, fb.b1), (
+            "route: exact, the nine-point homotopy", f"class {s.cls + 1} of {len(found.classes)}, member {s.member}; "
+            f"Newton residual {s.residual:.2g}, condition {s.condition:.2g}"), poses=_poses(A, B),
+            claim=_claim(checks, points=task.points)))
+    return len(found.real), sols, [
+        f"nine points, every solution (parameter homotopy from a stored generic set): {len(found.classes)} classes "
+        f"of {nine.CLASSES} (six solutions each: three cognates, two labellings), {len(found.solutions)} solutions, "
+        f"{len(found.real)} real, {len(found.usable)} usable as found (no branch, order or dead-point defect); "
+        f"{found.tracked} paths tracked, {found.failed} failed, {found.retracked} tracked again"] + list(found.notes)
 
 
 def _crank_residuals(A, B, a0, a1, b0, b1) -> tuple[float, ...]:

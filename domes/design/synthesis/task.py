@@ -76,6 +76,9 @@ class GuidanceTask:
 
 #: What a path task may ask of the link at ``a0`` (its ``driver`` entry).
 DRIVERS = ("crank", "any")
+#: A path task's ``route``: ``"auto"`` (the atlas and least squares; exact roots where Table 2-1 leaves no free
+#: choice) or ``"exact"`` (nine points, nothing given: every solution by the nine-point homotopy).
+ROUTES = ("auto", "exact")
 
 
 @dataclass(frozen=True)
@@ -93,6 +96,9 @@ class PathTask:
     #: ``"crank"``: the link at ``a0`` must turn fully (a linkage it only rocks is warned of and ranked after the
     #: others); ``"any"``: either, each answer saying which.
     driver: str = "any"
+    #: ``"exact"``: nine points, nothing given, no timing: every four-bar through them
+    #: (:func:`~domes.design.synthesis.ninepoint.nine_point_path`, about 20 to 30 s).
+    route: str = "auto"
 
     @property
     def exhaustive(self) -> bool:
@@ -314,7 +320,16 @@ def _path(data: dict, where: str, name: str) -> PathTask:
     if driver not in DRIVERS:
         raise InputError(f"{where}: 'driver' must be 'crank' (the link at a0 turns fully) or 'any', got "
                          f"{shown(driver)}")
-    t = PathTask(pts, tuple(sorted(given.items(), key=lambda kv: PIVOTS.index(kv[0]))), crank, name, driver=driver)
+    route = data.get("route", "auto")
+    if route not in ROUTES:
+        raise InputError(f"{where}: 'route' must be 'auto' or 'exact' (nine points, nothing given: every solution), "
+                         f"got {shown(route)}")
+    if route == "exact" and (len(pts) != 9 or given or crank is not None):
+        raise InputError(f"{where}: route 'exact' takes exactly nine points with no pivot given and no crank_deg "
+                         f"(the nine-point problem); got {len(pts)} points" + (", pivots given" if given else "")
+                         + (", crank_deg" if crank is not None else ""))
+    t = PathTask(pts, tuple(sorted(given.items(), key=lambda kv: PIVOTS.index(kv[0]))), crank, name, driver=driver,
+                 route=route)
     if t.exhaustive:
         check_path(t.points, t.pivot("a0"), t.pivot("b0"))
     else:
