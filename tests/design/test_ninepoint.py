@@ -43,6 +43,18 @@ def test_the_bordered_newton_step_is_the_dense_one(system):
     assert np.allclose(system.jacobian(z, p)[0], J, atol=1e-6)
 
 
+
+def test_newton_on_an_extended_residual_returns_to_the_planted_solution():
+    """Mixed-precision Newton (the residual in ``clongdouble``, the step in double) from near planted solutions
+    ends on them, as the double one does."""
+    system = DyadSystem(8)
+    rng = np.random.default_rng(6)
+    z, p = plant(system, rng)
+    start = z + 1e-3 * (rng.normal(size=z.shape) + 1j * rng.normal(size=z.shape))
+    for extended in (False, True):
+        w, res, _ = hc.refine(system, start, p, extended=extended)
+        assert w.dtype == complex and np.abs(w - z).max() < 1e-10 * (1 + np.abs(z).max()) and res.max() < 1e-12
+
 def _isotropic(P, a0, b0, A, B):
     """A real four-bar's isotropic coordinates (points scaled by the bounding box, from point 1) and parameters."""
     c = P[:, 0] + 1j * P[:, 1]

@@ -5,7 +5,8 @@
 ``p0 + s (p1 − p0)``, ``s = t / (t + γ (1 − t))``: for a random complex ``γ`` (the gamma trick) the arc misses,
 with probability one, the parameters where two solutions meet. Each path has its own step in ``t``: a fourth-order
 Runge-Kutta predictor on ``dz/dt = −J⁻¹ ∂F/∂p dp/dt``, two Newton corrections, the step accepted when the first
-correction (the predictor's error) is within :data:`TRACK_TOL` of the size and the second contracts; the next
+correction (the predictor's error) is within :data:`TRACK_TOL` of the size and the second contracts (or is
+at round-off, :data:`ROUNDOFF`); the next
 step aims the predictor's error (of order ``h⁵``) at half the tolerance, between half and twice the last step. A path whose coordinates pass :data:`DIVERGED` goes to infinity; one whose
 step falls below ``hmin`` fails. :func:`refine` polishes the end points by Newton. :func:`monodromy` fills a
 solution set from one solution by loops in parameter space.
@@ -28,6 +29,8 @@ import numpy as np
 
 #: Largest first Newton correction of an accepted step, relative to ``1 + |z|``.
 TRACK_TOL = 1e-5
+#: A second Newton correction within this of ``1 + |z|`` is at round-off: the step is accepted.
+ROUNDOFF = 1e-8
 #: A path whose coordinates grow beyond this goes to infinity.
 DIVERGED = 1e8
 #: Path status codes.
@@ -89,9 +92,10 @@ def track(system, z0, p0, p1, gamma: complex = 1.0, h0: float = 0.02, hmax: floa
             z2 = z1 - d2
             scale = 1 + norm(zi)
             n1, n2 = norm(d1), norm(d2)
-        # accepted: the predictor within the tolerance and Newton contracting (or already at round-off)
+        # accepted: the predictor within the tolerance and Newton contracting, or already at round-off (of a
+        # solution far out the Jacobian's round-off is large: the second correction within ROUNDOFF is enough)
         ok = (np.isfinite(n1) & np.isfinite(n2) & (n1 < tol * scale)
-              & ((n2 < 0.1 * n1) | (n1 < 1e-10 * scale)))
+              & ((n2 < 0.1 * n1) | (n1 < 1e-10 * scale) | (n2 < ROUNDOFF * scale)))
         good, bad = i[ok], i[~ok]
         z[good] = z2[ok]
         t[good] = np.where(hh[ok] >= 1 - ti[ok], 1.0, ti[ok] + hh[ok])
@@ -108,22 +112,28 @@ def track(system, z0, p0, p1, gamma: complex = 1.0, h0: float = 0.02, hmax: floa
     return Tracked(z, status, steps, t)
 
 
-def refine(system, z, p, iterations: int = 8):
+def refine(system, z, p, iterations: int = 8, extended: bool = False):
     """Newton's method at ``p`` from the rows of ``z``, until the correction is at round-off (``1e-14`` of
-    ``1 + |z|``) or ``iterations``: ``(z, residual norm, last correction norm)``."""
-    z = np.array(z, complex)
+    ``1 + |z|``) or ``iterations``: ``(z, residual norm, last correction norm)``. ``extended``: the residual and
+    the iterate in ``np.clongdouble`` (the step still solved in double: mixed-precision Newton, for a solution far
+    out whose double residual is all round-off; no gain where ``longdouble`` is ``double``)."""
+    kind = np.clongdouble if extended else complex
+    z = np.array(z, kind)
     p = np.broadcast_to(np.asarray(p, complex), (len(z), system.q))
+    pk = p.astype(kind)
     last = np.full(len(z), np.inf)
     todo = np.arange(len(z))
     with np.errstate(all="ignore"):
         for _ in range(iterations):
-            d = system.solve(z[todo], p[todo], system.residual(z[todo], p[todo]))
+            r = system.residual(z[todo], pk[todo]).astype(complex)
+            d = system.solve(z[todo].astype(complex), p[todo], r)
             d[~np.isfinite(d).all(axis=1)] = 0
             z[todo] -= d
             last[todo] = norm(d)
-            todo = todo[last[todo] > 1e-14 * (1 + norm(z[todo]))]
+            todo = todo[last[todo] > 1e-14 * (1 + norm(z[todo].astype(complex)))]
             if not len(todo):
                 break
+        z = z.astype(complex)
         return z, norm(system.residual(z, p)), last
 
 

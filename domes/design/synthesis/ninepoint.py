@@ -259,6 +259,11 @@ def nine_point_path(points, seed: int = 0, check_mechanisms: bool = True, passes
     reps, retracked, failed = _classes(system, data["nine_z"], data["nine_p"][None], p1, rng, progress, passes)
     pp = np.broadcast_to(p1, (len(reps), system.q))
     members = [hc.refine(system, w, pp)[0] for w in orbit(reps, pp)]
+    for w in members:
+        # a member made by `orbit` far out may stop at double round-off: Newton again on an extended residual
+        rough = np.flatnonzero(~(system.point_error(w, pp) < RESIDUAL))
+        if len(rough):
+            w[rough] = hc.refine(system, w[rough], pp[rough], iterations=4, extended=True)[0]
     if progress:
         progress(f"{len(reps)} classes; checking the real ones")
     quality = [certify(system, w, p1) for w in members]
