@@ -21,7 +21,7 @@ from domes.design.synthesis.fourbars import FourBar
 from domes.design.synthesis.verify import replay
 from domes.motion.coupler.minimax import TIMED_STARTS, polish, timed_fit
 
-__all__ = ["TIMED_STARTS", "bounded_timing", "fourbar_of", "polished_path"]
+__all__ = ["TIMED_STARTS", "bounded_timing", "carried", "coupler_turns", "fourbar_of", "polished_path"]
 
 #: The path task's pivot coordinates as the dimensions of :func:`~domes.motion.coupler.minimax.timed_fit`.
 TIMED_GIVEN = {"a0x": "ax", "a0y": "ay", "b0x": "dx", "b0y": "dy"}
@@ -30,6 +30,31 @@ TIMED_GIVEN = {"a0x": "ax", "a0y": "ay", "b0x": "dx", "b0y": "dy"}
 def fourbar_of(mech) -> FourBar:
     """The four-bar of a mechanism with joints ``A B C D`` and coupler point ``P``, drawn as it is."""
     return FourBar(*(tuple(mech.joint(n).at) for n in "ABCD"), tuple(mech.point("P")[1]))
+
+
+def carried(fb: FourBar, a1, b1) -> tuple[float, float]:
+    """The coupler point of ``fb`` carried with its coupler to the pose whose moving pivots are ``a1`` and ``b1``.
+
+    >>> carried(FourBar((0, 0), (1, 0), (3, 0), (3, -1), (2, 1)), (0, 1), (0, 3))
+    (-1.0, 2.0)
+    """
+    p, q = complex(*fb.a1), complex(*fb.b1)
+    u, v = complex(*a1), complex(*b1)
+    z = u + (complex(*fb.point) - p) * (v - u) / (q - p)
+    return (float(z.real), float(z.imag))
+
+
+def coupler_turns(fb: FourBar, angles) -> tuple[float, ...]:
+    """The coupler's rotation (rad) from the first of the crank ``angles`` to each later one, as the kernel drives
+    ``fb`` on its drawn assembly mode.
+
+    >>> [round(t, 6) for t in coupler_turns(FourBar((0, 0), (1, 0), (3, 1), (3, 0), (1, 1)), [0.0, 0.0])]
+    [0.0]
+    """
+    r = replay(fb, angles, ["point:B", "point:C"], between=False)
+    e = (r.values["point:C.x"] - r.values["point:B.x"]) + 1j * (r.values["point:C.y"] - r.values["point:B.y"])
+    turn = np.angle(e / e[0])
+    return tuple(float(t) for t in turn[1:])
 
 
 def polished_path(fb: FourBar, points) -> tuple[FourBar, float, float] | None:

@@ -246,7 +246,7 @@ def fit_target(target: dict, closed, opened, candidates: int = 5, seeds: int = 6
             xy = np.c_[r.values["point:P.x"], r.values["point:P.y"]]
             worst = float(np.max(np.linalg.norm(xy - pts, axis=1))) if r.dead is None else math.inf
             route = next((n[len("route: "):] for n in s.notes if n.startswith("route: ")), "path task")
-            answers.append((worst, s.fourbar, angles, route + " (timing)"))
+            answers.append((worst, s.fourbar, angles, route if "timing" in route else route + ", timing"))
         answers = [a for a in answers if np.isfinite(a[0])]
         if not answers:
             return None, None, "path task and bounded least squares: no answer"

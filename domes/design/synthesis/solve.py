@@ -601,7 +601,8 @@ def _last_steps(task: PathTask, sols: list, within: float, starts: int = pr.TIME
                                                         found[0].point))
         if f is None:
             return sols, ["worst-point polish of the best least-squares linkage: no lower worst point"]
-        return sols + [_fit_solution(task, f, "least squares", "least squares, then the worst point polished")], [
+        return sols + [_fit_solution(task, f, "least squares", "least squares, then the worst point polished",
+                                     pr.carried(found[0], f.a1, f.b1))], [
             f"worst-point polish of the best least-squares linkage: worst point {found[1]:.3g} -> {found[2]:.3g}"]
     timed = [(_timed_worst(s.fourbar, s.claim.angles, P), s) for s in sols if s.claim is not None]
     best = min((w for w, _ in timed), default=math.inf)
@@ -611,10 +612,8 @@ def _last_steps(task: PathTask, sols: list, within: float, starts: int = pr.TIME
     if found is None or not found[2] < best:
         return sols, ["bounded least squares of the timing: no nearer linkage"]
     fb = found[0]
-    f = pf.seed_from(P, (fb.a0, fb.a1, fb.b1, fb.b0, fb.point))
-    if f is None:
-        return sols, ["bounded least squares of the timing: no nearer linkage"]
-    return sols + [_fit_solution(task, f, "least squares", "bounded least squares of the timing")], [
+    f = pf.PathFit(fb.a0, fb.a1, fb.b1, fb.b0, pr.coupler_turns(fb, found[1]), found[2])
+    return sols + [_fit_solution(task, f, "least squares", "bounded least squares of the timing", fb.point)], [
         f"bounded least squares of the timing: largest distance {found[2]:.3g} (the path task's best: {best:.3g})"]
 
 
@@ -683,11 +682,11 @@ def atlas_seeds(task: PathTask, atlas=None, progress=None) -> tuple[list[pf.Path
                    "least squares with the random starts")
 
 
-def _fit_solution(task: PathTask, f: pf.PathFit, kind: str, route: str) -> Solution:
+def _fit_solution(task: PathTask, f: pf.PathFit, kind: str, route: str, point=None) -> Solution:
     """A solution of :func:`.pathfit.fit` with its checks and its claim: the points at its crank angles (exact),
     at the prescribed ones (timing), or anywhere on its coupler curve (least squares); its notes say the
-    ``route`` that found it."""
-    fb = FourBar(f.a0, f.a1, f.b1, f.b0, task.points[0])
+    ``route`` that found it; the coupler point is ``point`` (default: point 1, where the fit puts it)."""
+    fb = FourBar(f.a0, f.a1, f.b1, f.b0, task.points[0] if point is None else point)
     A, B = pt.coupler_positions(task.points, pt.PathSolution(f.a1, f.b1, f.rotations, f.residual))
     checks = check(fb, A, B)
     extra = ()
