@@ -79,7 +79,8 @@ def test_checkpointed_atlas_is_the_plain_one_and_is_loaded_again(tmp_path, monke
     assert not [name for name in written if name.startswith("parts/")]       # slices dropped once a level is done
     nine = ChainGenerator().chains(9, 2)                                      # the level of its k=2 ears' parents
     monkeypatch.setattr("domes.typesynth.atlas.ears", None)                    # nothing may be computed again
-    again = ChainGenerator(checkpoints=JobFolder(tmp_path / "job", SPEC))
+    # the generator that merges levels (from 13 links `auto` augments instead, and calls no ears)
+    again = ChainGenerator(checkpoints=JobFolder(tmp_path / "job", SPEC), method="merge")
     assert again.chains(LINKS, DOF) == atlas and again.chains(9, 2) == nine
     with pytest.raises(TypeError):                                            # ... but a size not on disk is
         again.chains(13, 2)
