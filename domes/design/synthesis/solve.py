@@ -593,8 +593,8 @@ def _last_steps(task: PathTask, sols: list, within: float, starts: int = pr.TIME
         fits = [s for s in sols if s.claim is not None and s.claim.on_curve]
         if task.given or not fits:
             return sols, []
-        best = min(fits, key=lambda s: max(curve_distances(s.fourbar, P)))
-        if max(curve_distances(best.fourbar, P)) <= within:
+        worst, best = min(((max(curve_distances(s.fourbar, P)), k, s) for k, s in enumerate(fits)))[::2]
+        if worst <= within:
             return sols, []
         found = pr.polished_path(best.fourbar, P)
         f = None if found is None else pf.seed_from(P, (found[0].a0, found[0].a1, found[0].b1, found[0].b0,
