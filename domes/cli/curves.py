@@ -94,6 +94,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    "closed or open by its ends (unless --open), every candidate fitted, each fit's error the distance "
                    "of your points from its traced curve, and the tolerance four times the sketch's scatter unless "
                    "--tol says (docs/curves.md)")
+    q.add_argument("--speed", type=float, default=None, metavar="DEG",
+                   help="with --drawn and a path timed by times (a CSV column headed time, a JSON \"times\" list): "
+                   "the crank's speed in degrees per unit of time, its sign the direction (default: found by the fit; "
+                   "a column headed angle, or \"angles\", gives the crank's angle at each point instead)")
     q.add_argument("--results", type=int, default=3, help="fitting linkages to find (default 3)")
     q.add_argument("--candidates", type=int, default=None,
                    help=f"atlas candidates refined at most (default {CANDIDATES}; with --drawn, where each one is "
@@ -302,7 +306,7 @@ def run_match(args) -> int:
         check_wanted(wanted)                # before the atlas, which may have to be built first
     except InputError as exc:
         raise InputError(f"{args.file}: {exc}") from None
-    sketch = None
+    sketch, timing = None, _timing(args)
     if args.drawn:
         from domes.motion.coupler.freehand import drawn, match_drawn
 
@@ -321,8 +325,11 @@ def run_match(args) -> int:
         raise InputError(f"{args.atlas}: an atlas of {table.meta.get('kind')} paths, but the path is {kind}")
     atlas = OpenAtlas(table) if kind == "open" else Atlas(table)
     if sketch is not None:
-        result = match_drawn(wanted, atlas, args.results, DRAWN_CANDIDATES if args.candidates is None else
-                             args.candidates, args.tol, said, progress=progress)
+        try:
+            result = match_drawn(wanted, atlas, args.results, DRAWN_CANDIDATES if args.candidates is None else
+                                 args.candidates, args.tol, said, progress=progress, timing=timing)
+        except InputError as exc:
+            raise InputError(f"{args.file}: {exc}") from None
     else:
         result = match(wanted, atlas, args.results, CANDIDATES if args.candidates is None else args.candidates,
                        args.tol, progress=progress)
@@ -333,7 +340,7 @@ def run_match(args) -> int:
                "refine_s": result.refine_seconds, "size": result.size, "fits": [
                    {"success": f.success, "lengths": list(f.lengths), "coupler": list(f.coupler),
                     "before": {"max": f.before[0], "rms": f.before[1]}, "after": {"max": f.after[0], "rms": f.after[1]},
-                    "mechanism": f.mechanism.to_dict() if f.mechanism else None,
+                    "mechanism": f.mechanism.to_dict() if f.mechanism else None, **_timed_doc(f),
                     "merged": [{"relation": why, "lengths": list(g.lengths), "coupler": list(g.coupler),
                                 "after": {"max": g.after[0], "rms": g.after[1]}, "pivots": _pivots(g)}
                                for g, why in _merged(result, k)]} for k, f in enumerate(result.fits)]}
@@ -357,6 +364,34 @@ def run_match(args) -> int:
             out += [f"   merged: {_merged_text(g, why)}" for g, why in _merged(result, k - 1)]
         write_output("\n".join(out) + "\n", args.output)
     return 0 if result.success else 1
+
+
+def _timing(args):
+    """The timing of a drawn path's file (:func:`domes.io.curves.read_timing`) with ``--speed``, or None."""
+    from domes.io.curves import read_timing
+    from domes.motion.coupler.timing import Timing
+
+    found = read_timing(args.file)
+    if found is None:
+        if args.speed is not None:
+            raise InputError(f"--speed: {args.file} gives no times (a CSV column headed time, or a JSON \"times\" "
+                             "list)")
+        return None
+    kind, values, speed = found
+    if not args.drawn:
+        raise InputError(f"{args.file}: the path gives the crank's {'angles' if kind == 'angle' else 'times'}; a "
+                         "timing is fitted to a path drawn by hand: give --drawn")
+    if args.speed is not None and kind != "time":
+        raise InputError(f"--speed: {args.file} gives crank angles, not times")
+    return Timing(tuple(values), kind, args.speed if args.speed is not None else speed)
+
+
+def _timed_doc(f) -> dict:
+    """A timed fit's crank angles, speed and distances from its curve, for the JSON answer (else nothing)."""
+    if not hasattr(f, "angles"):
+        return {}
+    return {"timing": {"angles_deg": list(f.angles), "speed_deg_per_unit": f.speed,
+                       "curve": {"max": f.curve[0], "rms": f.curve[1]}}}
 
 
 def _merged(result, k: int):
@@ -394,4 +429,11 @@ def _fit_props(f):
     if f.mechanism is not None:
         A, D = f.mechanism.joint("A").at, f.mechanism.joint("D").at
         props.append(("frame pivots A, D", f"({A[0]:.6g}, {A[1]:.6g}), ({D[0]:.6g}, {D[1]:.6g})"))
+    if hasattr(f, "angles"):
+        props[3:5] = [("largest distance at the timing", f"{f.after[0]:.3g} (the start: {f.before[0]:.3g})"),
+                      ("RMS distance at the timing", f"{f.after[1]:.3g}"),
+                      ("crank angle at the first point", f"{f.angles[0]:.6g}°")]
+        if f.speed is not None:
+            props.append(("crank speed", f"{f.speed:.6g}° per unit of time"))
+        props.append(("from the curve (anywhere on it)", f"largest {f.curve[0]:.3g}, RMS {f.curve[1]:.3g}"))
     return tuple(props)

@@ -3,7 +3,10 @@
 JSON is either a list of ``[x, y]`` pairs or an object with ``"points"``
 (and optionally ``"closed"``, true by default). Every value must be a finite
 number, at most 1e50 in size; an error names the file, the line (CSV) or the
-entry (JSON).
+entry (JSON). A drawn path's timing (:func:`read_timing`) is a third CSV
+column headed ``angle`` (the crank's angle, degrees) or ``time``, or a JSON
+object's ``"angles"`` or ``"times"`` list (with ``"speed"``, degrees per
+unit of time, optional for times).
 
 >>> import tempfile, os
 >>> path = os.path.join(tempfile.mkdtemp(), "path.csv")
@@ -23,7 +26,7 @@ import numpy as np
 
 from domes.errors import InputError, shown
 from domes.io.files import read_json, read_text
-from domes.model.fields import LARGEST, read_xy
+from domes.model.fields import LARGEST, read_list, read_number, read_xy
 
 
 def read_points(path: str | Path) -> np.ndarray:
@@ -81,6 +84,74 @@ def _from_json(path, text):
             raise InputError(f"{path}: point {k} must be [x, y] with two numbers, got {shown(p)}")
         out.append(read_xy(p, f"{path}: point {k}"))
     return np.array(out), closed
+
+
+#: A CSV column's heading that makes it a timing: crank angles (degrees) or times.
+TIMING_COLUMNS = {"angle": "angle", "angle_deg": "angle", "crank_deg": "angle", "time": "time", "t": "time"}
+
+
+def read_timing(path: str | Path) -> tuple[str, list[float], float | None] | None:
+    """``(kind, values, speed)``: the timing a path's file gives (``kind`` "angle" or "time", one value per point,
+    the crank's speed in degrees per unit of time or None), or None when it gives none.
+
+    >>> import tempfile, os
+    >>> path = os.path.join(tempfile.mkdtemp(), "path.csv")
+    >>> _ = open(path, "w").write("x,y,time\\n0,0,0\\n1,0,0.5\\n")
+    >>> read_timing(path)
+    ('time', [0.0, 0.5], None)
+    """
+    path = Path(path)
+    text = read_text(path)
+    if path.suffix.lower() == ".json" or text.lstrip().startswith(("[", "{")):
+        doc = read_json(path, text)
+        if not isinstance(doc, dict):
+            return None
+        given = [k for k in ("angles", "times") if k in doc]
+        if len(given) > 1:
+            raise InputError(f"{path}: give \"angles\" or \"times\", not both")
+        if not given:
+            if "speed" in doc:
+                raise InputError(f"{path}: \"speed\" goes with \"times\", which the file does not give")
+            return None
+        values = read_list(doc[given[0]], f"{path}: \"{given[0]}\"")
+        values = [read_number(v, f"{path}: {given[0]}[{k}]", LARGEST) for k, v in enumerate(values)]
+        speed = doc.get("speed")
+        if speed is not None:
+            if given[0] != "times":
+                raise InputError(f"{path}: \"speed\" goes with \"times\", not with \"angles\"")
+            speed = read_number(speed, f"{path}: \"speed\"", LARGEST)
+        return ("angle" if given[0] == "angles" else "time"), values, speed
+    kind, values = None, []
+    for number, row in enumerate(csv.reader(io.StringIO(text)), 1):
+        cells = [c.strip() for c in row if c.strip()]
+        if not cells or cells[0].startswith("#"):
+            continue
+        if kind is None and not values:
+            if _numbers(cells[:2]):
+                return None                                     # no heading: no timing
+            if len(cells) < 3 or cells[2].lower() not in TIMING_COLUMNS:
+                return None
+            kind = TIMING_COLUMNS[cells[2].lower()]
+            continue
+        if len(cells) < 3:
+            raise InputError(f"{path}, line {number}: no {kind} (the third column) for the point {row!r}")
+        try:
+            v = float(cells[2])
+        except ValueError:
+            raise InputError(f"{path}, line {number}: the {kind} {cells[2]!r} is not a number") from None
+        if not math.isfinite(v) or abs(v) > LARGEST:
+            raise InputError(f"{path}, line {number}: the {kind} {cells[2]} is not a finite number at most "
+                             f"{LARGEST:g} in size")
+        values.append(v)
+    return (kind, values, None) if kind else None
+
+
+def _numbers(cells) -> bool:
+    try:
+        [float(c) for c in cells]
+    except ValueError:
+        return False
+    return True
 
 
 def points_csv(points, header: str = "x,y") -> str:

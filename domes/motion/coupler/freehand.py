@@ -41,6 +41,7 @@ from domes.motion.coupler.atlas import Atlas, OpenAtlas
 from domes.motion.coupler.curves import trace
 from domes.motion.coupler.fit import Fit, check_wanted, fit
 from domes.motion.coupler.match import Matching, _merge, _same
+from domes.motion.coupler.timing import Schedule, TimedFit, Timing, schedule, timed_fits
 from domes.results import Progress, Status, Ticker
 
 #: The ends of a sketch closer than this share of its size make it closed (unless the caller says).
@@ -55,6 +56,8 @@ FLOOR = 1e-3
 CANDIDATES, EVALUATIONS, REFINED, POLISH = 10, 60, 2, 300
 #: Samples per turn of the traced curve the user's points are measured against.
 TRACED = 1440
+#: A timed sketch places this many times ``candidates`` atlas curves on its points as starts of its timed fit.
+TIMED_LOOKUP = 5
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,7 +65,8 @@ class Drawn:
     """A sketch as read: the user's ``points`` (repeats dropped), whether ``closed`` (and why, ``said``), the
     indices of its ``corners``, the ``smooth`` curve at each point, the ``noise`` (RMS distance of the points from
     it), the ``size`` (the larger side of the bounding box) and ``spread``, points evenly spaced by arc length
-    along the smooth curve (corners among them) for the atlas look-up."""
+    along the smooth curve (corners among them) for the atlas look-up; ``kept`` the index of each point among
+    those given."""
 
     points: np.ndarray
     closed: bool
@@ -72,15 +76,16 @@ class Drawn:
     noise: float
     size: float
     spread: np.ndarray
+    kept: np.ndarray | None = None
 
 
 def drawn(points, closed: bool | None = None, count: int = 64) -> Drawn:
     """Read a sketch (see the module's doc); ``closed`` None: decided by its ends."""
     raw = check_wanted(points)
     keep = np.r_[True, np.any(np.abs(np.diff(raw, axis=0)) > 0, axis=1)]
-    p = raw[keep]
+    p, kept = raw[keep], np.flatnonzero(keep)
     if len(p) >= 2 and np.all(p[-1] == p[0]):
-        p = p[:-1]
+        p, kept = p[:-1], kept[:-1]
     if len(p) < 9:
         raise InputError(f"the sketch has {len(p)} distinct points; at least 9 are needed to fit a four-bar")
     size = float(np.max(np.ptp(p, axis=0)))
@@ -97,7 +102,7 @@ def drawn(points, closed: bool | None = None, count: int = 64) -> Drawn:
     corners = _corners(p, s, closed)
     smooth = _smoothed(p, s, corners, closed)
     noise = float(np.sqrt(np.mean(np.sum((p - smooth) ** 2, axis=1))))
-    return Drawn(p, closed, said, corners, smooth, noise, size, _spread(smooth, s, corners, closed, count))
+    return Drawn(p, closed, said, corners, smooth, noise, size, _spread(smooth, s, corners, closed, count), kept)
 
 
 def _arc(p: np.ndarray, closed: bool) -> np.ndarray:
@@ -247,25 +252,52 @@ class DrawnMatching(Matching):
                 f"{self.refine_seconds:.2f} s; {self.note}")
 
 
-def _reading(d: Drawn) -> str:
+def timed_scatter(sketch: Drawn, plan: Schedule) -> float:
+    """The RMS distance of a timed sketch's points from a smoothing spline over their timing (GCV weight, wrapped
+    round a closed sketch, no corners: a coupler point moves smoothly with its crank even through a cusp); the
+    sketch's scatter over arc length when its timing does not run one way."""
+    u = np.r_[0.0, plan.rotations]
+    u = -u if u[-1] < 0 else u
+    if not np.all(np.diff(u) > 0):
+        return sketch.noise
+    period = (2 * math.pi if not plan.free else u[-1] + u[-1] / (len(u) - 1)) if sketch.closed else u[-1]
+    smooth = _smoothed(sketch.points, np.r_[u, period], (), sketch.closed)
+    return float(np.sqrt(np.mean(np.sum((sketch.points - smooth) ** 2, axis=1))))
+
+
+def _reading(d: Drawn, timing: Timing | None = None, noise: float | None = None) -> str:
     """How a sketch was read, for the answer's message."""
     corners = f"{len(d.corners)} corner{'' if len(d.corners) == 1 else 's'}" if d.corners else "no corner"
-    return (f"a drawn path of {len(d.points)} points, {d.said}; {corners}; the points scatter {d.noise / d.size:.2%} "
-            "of its size about a smooth curve; errors are the distances of your points from each linkage's traced "
-            "curve")
+    text = (f"a drawn path of {len(d.points)} points, {d.said}; {corners}; the points scatter "
+            f"{d.noise / d.size:.2%} of its size about a smooth curve; errors are the distances of your points from ")
+    if timing is None:
+        return text + "each linkage's traced curve"
+    given = ("crank angles" if timing.kind == "angle" else "times, the crank's speed " +
+             ("found by the fit" if timing.speed is None else f"{timing.speed:g}°/unit"))
+    return (text + f"each linkage's coupler point at their timing ({given}), about which they scatter "
+            f"{noise / d.size:.2%} of its size")
+
+
+def _curve(mech, sketch: Drawn) -> tuple[float, float]:
+    """The largest and RMS distance of the sketch's points from the traced curve of ``mech``."""
+    d = distances(mech, sketch.points)
+    return float(np.max(d)), float(np.sqrt(np.mean(d ** 2)))
 
 
 def match_drawn(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = CANDIDATES,
-                tol: float | None = None, closed: bool | None = None, progress: Progress | None = None
-                ) -> DrawnMatching:
+                tol: float | None = None, closed: bool | None = None, progress: Progress | None = None,
+                timing: Timing | None = None) -> DrawnMatching:
     """The four-bars whose coupler curves pass nearest a drawn path (see the module's doc), best first.
 
     ``atlas`` an :class:`~domes.motion.coupler.atlas.Atlas` for a closed sketch, an
     :class:`~domes.motion.coupler.atlas.OpenAtlas` for an open one (``closed`` None: the sketch's ends decide, and
     must agree with the atlas). ``tol`` relative to the sketch's size (default: four times its scatter, at least
-    :data:`FLOOR`).
+    :data:`FLOOR`). ``timing`` (a :class:`~domes.motion.coupler.timing.Timing`, or a list of crank angles in
+    degrees, one per point): the crank's angle at each point is fixed by it, up to the crank's zero (and its speed,
+    for times without one), and each fit (a :class:`~domes.motion.coupler.timing.TimedFit`) is measured at it.
     """
     sketch = drawn(points, closed)
+    plan = None if timing is None else schedule(timing, len(np.asarray(points)), sketch.kept, sketch.closed)
     if sketch.closed != (not isinstance(atlas, OpenAtlas)):
         kind = "closed" if sketch.closed else "open"
         raise InputError(f"the sketch is {sketch.said.split(':')[0]}, but the atlas is of "
@@ -273,14 +305,19 @@ def match_drawn(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: 
                          "paths (or say closed/open)")
     if results < 1 or candidates < 1:
         raise InputError("results and candidates must be at least 1")
+    noise = sketch.noise if plan is None else timed_scatter(sketch, plan)
     if tol is None:
-        tol = max(FLOOR, 4.0 * sketch.noise / sketch.size)
+        tol = max(FLOOR, 4.0 * noise / sketch.size)
     if not tol > 0:
         raise InputError(f"tol {tol}: give a positive tolerance (relative to the sketch's size)")
     t0 = time.perf_counter()
-    found = atlas.lookup(sketch.spread, k=candidates)
+    found = atlas.lookup(sketch.spread, k=candidates if plan is None else TIMED_LOOKUP * candidates)
     t1 = time.perf_counter()
     clock = Ticker(progress)
+    if plan is not None:
+        timed = _timed(sketch, plan, atlas, found, tol, clock)
+        return DrawnMatching(tuple(timed[:results]), len(found), t1 - t0, time.perf_counter() - t1, sketch.size, tol,
+                             _reading(sketch, plan.timing, noise), (), sketch)
     fits: list[Fit] = []
     tried = 0
     for cand in found:
@@ -303,6 +340,19 @@ def match_drawn(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: 
         shown += 1
     return DrawnMatching(tuple(kept[:max(shown, 1)]), tried, t1 - t0, time.perf_counter() - t1, sketch.size, tol,
                          _reading(sketch), tuple(tuple(m) for m in merged[:max(shown, 1)]), sketch)
+
+
+def _timed(sketch: Drawn, plan: Schedule, atlas, found, tol: float, clock: Ticker) -> list[TimedFit]:
+    """The timed fits of a sketch (:func:`~domes.motion.coupler.timing.timed_fits`), started from the atlas
+    candidates ``found`` as placed on the user's points, each with its distances from its traced curve."""
+    starts = []
+    for k, cand in enumerate(found):
+        clock.tick(lambda: f"placing candidate {k + 1}/{len(found)}")
+        f = _fit(sketch, atlas.table.entry(cand.index), tol, 1, cand.window)
+        if f is not None and f.mechanism is not None:
+            starts.append(f.mechanism)
+    fits = timed_fits(sketch.points, plan, starts, tol, tick=lambda what: clock.tick(lambda: what))
+    return [replace(f, curve=_curve(f.mechanism, sketch)) for f in fits]
 
 
 def _fit(sketch: Drawn, start, tol: float, evaluations: int, window, previous: Fit | None = None) -> Fit | None:

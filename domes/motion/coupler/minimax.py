@@ -224,51 +224,85 @@ def timed_fit(points, rotations, fixed: dict | None = None, starts: int = TIMED_
     >>> worst < 1e-3                  # a few starts: near the planted linkage (60, the default: 1e-14)
     True
     """
-    T = np.asarray(points, dtype=float)
-    T = T[:, 0] + 1j * T[:, 1]
-    rel = np.concatenate([[0.0], np.asarray(rotations, dtype=float)])
-    if len(rel) != len(T):
-        raise ValueError(f"one crank rotation per point after the first ({len(T) - 1}), got {len(rel) - 1}")
-    fixed = dict(fixed or {})
-    size = float(max(np.ptp(T.real), np.ptp(T.imag), 1e-300))
-    c = T.mean()
-    centre = np.array([c.real, c.imag, c.real, c.imag, 0, 0, 0, 0, 0])
-    lo = np.concatenate([centre[:4] - BOX * size, np.full(3, MIN_LINK * size), np.full(2, -BOX * size), [-np.inf]])
-    hi = np.concatenate([centre[:4] + BOX * size, np.full(3, LONGEST * size), np.full(2, BOX * size), [np.inf]])
-    free = [k for k, name in enumerate(DIMENSIONS) if name not in fixed] + [9]
-    full = np.zeros(10)
-    for k, name in enumerate(DIMENSIONS):
-        if name in fixed:
-            full[k] = fixed[name]
-
-    def residuals(y, sign):
-        x = full.copy()
-        x[free] = y
-        P, _ = _positions(x[:9], x[9] + rel, sign)
-        r = np.where(np.isfinite(P), P - T, 10.0 * size)
-        return np.concatenate([r.real, r.imag]) / size
-
+    problem = TimedProblem(points, rotations, fixed)
+    size, centre = problem.size, problem.centre
     rng = np.random.default_rng(seed)
     best = None
     for k in range(starts):
         x0 = np.concatenate([centre[:4] + size * rng.uniform(-2, 2, 4), size * rng.uniform(0.1, 2, 3),
                              size * rng.uniform(-2, 2, 2), rng.uniform(-math.pi, math.pi, 1)])
-        y0 = np.clip(x0[free], lo[free] + 1e-9 * size, hi[free] - 1e-9 * size)
-        sign = 1.0 if k % 2 else -1.0
-        with np.errstate(all="ignore"):
-            y = least_squares(residuals, y0, args=(sign,), bounds=(lo[free], hi[free]), method="trf",
-                              max_nfev=TIMED_EVALUATIONS).x
-        r = residuals(y, sign)
-        worst = float(np.max(np.hypot(r[:len(T)], r[len(T):]))) * size
-        if best is None or worst < best[0]:
-            best = (worst, y, sign)
-    worst, y, sign = best
-    x = full.copy()
-    x[free] = y
-    P, _ = _positions(x[:9], x[9] + rel[:1], sign)
-    if not np.isfinite(P[0]):
+        found = problem.solve(x0, 1.0 if k % 2 else -1.0)
+        if best is None or found[0] < best[0]:
+            best = found
+    worst, x, sign = best
+    if not problem.closes(x, sign):
         return None
     return _drawn(x[:9], x[9], sign), float(x[9]), worst
+
+
+class TimedProblem:
+    """The bounded least squares of :func:`timed_fit`, shared with the timed sketches of
+    :mod:`domes.motion.coupler.freehand`: the coupler point at crank angle ``first + speed · rotation`` meets each
+    point, in the box of :func:`timed_fit`. A linkage is ``x = (ax ay dx dy a b c u v, first, speed)``; ``speed``
+    is 1 unless ``speed=True`` makes it free (the crank's speed unknown, ``rotations`` then its times)."""
+
+    def __init__(self, points, rotations, fixed: dict | None = None, speed: bool = False):
+        T = np.asarray(points, dtype=float)
+        self.T = T[:, 0] + 1j * T[:, 1]
+        self.rel = np.concatenate([[0.0], np.asarray(rotations, dtype=float)])
+        if len(self.rel) != len(self.T):
+            raise ValueError(f"one crank rotation per point after the first ({len(self.T) - 1}), got "
+                             f"{len(self.rel) - 1}")
+        fixed = dict(fixed or {})
+        self.size = size = float(max(np.ptp(self.T.real), np.ptp(self.T.imag), 1e-300))
+        c = self.T.mean()
+        self.centre = np.array([c.real, c.imag, c.real, c.imag, 0, 0, 0, 0, 0])
+        self.lo = np.concatenate([self.centre[:4] - BOX * size, np.full(3, MIN_LINK * size), np.full(2, -BOX * size),
+                                  [-np.inf, -np.inf]])
+        self.hi = np.concatenate([self.centre[:4] + BOX * size, np.full(3, LONGEST * size), np.full(2, BOX * size),
+                                  [np.inf, np.inf]])
+        self.free = [k for k, name in enumerate(DIMENSIONS) if name not in fixed] + [9] + ([10] if speed else [])
+        self.full = np.zeros(11)
+        self.full[10] = 1.0
+        for k, name in enumerate(DIMENSIONS):
+            if name in fixed:
+                self.full[k] = fixed[name]
+        self.evaluations = 0
+
+    def positions(self, x, sign: float) -> np.ndarray:
+        """The coupler point of the linkage ``x`` (mode ``sign``) at each point's crank angle (NaN: not closed)."""
+        return _positions(x[:9], x[9] + x[10] * self.rel, sign)[0]
+
+    def residuals(self, y, sign: float) -> np.ndarray:
+        self.evaluations += 1
+        x = self.full.copy()
+        x[self.free] = y
+        P = self.positions(x, sign)
+        r = np.where(np.isfinite(P), P - self.T, 10.0 * self.size)
+        return np.concatenate([r.real, r.imag]) / self.size
+
+    def solve(self, x0, sign: float, evaluations: int = TIMED_EVALUATIONS):
+        """``(worst, x, sign)``: the bounded least squares from ``x0`` (ten or eleven entries) on mode ``sign``."""
+        start = self.full.copy()
+        start[:len(x0)] = x0
+        lo, hi = self.lo[self.free], self.hi[self.free]
+        y0 = np.clip(start[self.free], lo + 1e-9 * self.size, hi - 1e-9 * self.size)
+        with np.errstate(all="ignore"):
+            y = least_squares(self.residuals, y0, args=(sign,), bounds=(lo, hi), method="trf",
+                              max_nfev=evaluations).x
+        r = self.residuals(y, sign)
+        n = len(self.T)
+        x = self.full.copy()
+        x[self.free] = y
+        return float(np.max(np.hypot(r[:n], r[n:]))) * self.size, x, sign
+
+    def closes(self, x, sign: float) -> bool:
+        """Whether the linkage ``x`` closes at the first point's crank angle."""
+        return bool(np.isfinite(_positions(x[:9], x[9] + x[10] * self.rel[:1], sign)[0][0]))
+
+    def mechanism(self, x, sign: float) -> Mechanism:
+        """The linkage ``x`` drawn at the first point's crank angle."""
+        return _drawn(x[:9], x[9], sign)
 
 
 def _drawn(g, theta: float, sign: float) -> Mechanism:
