@@ -10,16 +10,22 @@ mean); the rest does not shrink:
     T(N) ≈ S + β·W / N
 
 ``--method augment`` (default): the atlas by canonical augmentation, whose
-parts are independent. Before the run, :func:`domes.typesynth.atlas.forecast`
-walks a few parts drawn at random here (``--forecast-parts``) and scales them up (count, CPU work,
-memory); the run then says how far the forecast was. ``--sample M`` walks
-only ``M`` other parts drawn at random (``--seed``), on the cluster: the
-check of a forecast for an atlas too large to build here (16 links).
+parts are independent. Before the run, the forecast walks a stratified
+sample of the starts here (:func:`domes.typesynth.strata.sample`,
+``--forecast-starts``, seed 0), as ``domes chains`` does, and scales it by
+stratum (count, CPU work, the largest part); the run then says how far the
+forecast was. ``--sample M`` walks only ``M`` parts drawn at random
+(``--seed``), on the cluster, and compares them with the forecast of those
+very parts: the check of a forecast for an atlas too large to build here
+(16 links). ``--census`` walks every start alone on the cluster (the whole
+atlas, start by start) and then draws the forecast's sample ``--draws``
+times from those walks: how far the forecast can be, over many seeds.
 ``--method merge``: the level-by-level generator (its slices of ears and of
 canonical labelling are the tasks).
 
     python benchmarks/scale_model.py --links 14 --dof 1 --workers 2                 # docs/scale.md
-    python benchmarks/scale_model.py --links 16 --dof 1 --workers 2 --sample 2 --forecast-parts 2
+    python benchmarks/scale_model.py --links 14 --dof 1 --workers 2 --census --draws 300
+    python benchmarks/scale_model.py --links 16 --dof 1 --workers 2 --sample 6
 """
 
 from __future__ import annotations
@@ -28,13 +34,14 @@ import argparse
 import pickle
 import random
 import resource
+import statistics
 import sys
 import time
 from collections import defaultdict
 
 from domes.execution import executor
-from domes.typesynth import augment
-from domes.typesynth.atlas import FORECAST_PARTS, IMBALANCE, ChainGenerator, augment_forecast
+from domes.typesynth import augment, strata
+from domes.typesynth.atlas import IMBALANCE, MERGE_SECONDS_PER_CHAIN, ChainGenerator
 
 
 def _peak_rss() -> int:
@@ -63,6 +70,32 @@ def _split(stream, wall: float, workers: int):
     return work, per_worker, covered, beta, len(spans)
 
 
+def _census(args, starts, loops, f) -> int:
+    """Walk every start alone on the cluster, then draw the forecast's sample ``--draws`` times from the walks."""
+    chunk = 64
+    walks: list = [None] * len(starts)
+    cpu0 = time.perf_counter()
+    with executor(args.workers) as run:
+        tasks = [(starts[i:i + chunk], loops, args.dof) for i in range(0, len(starts), chunk)]
+        for j, result in run.completed(strata.walk_starts, tasks):
+            walks[j * chunk:j * chunk + len(result)] = result
+    chains, seconds = sum(w[0] for w in walks), sum(w[1] for w in walks)
+    print(f"census: {chains:,} chains from {len(starts):,} starts, {seconds:.1f} s of CPU in the walks "
+          f"({time.perf_counter() - cpu0:.1f} s on {args.workers} workers)")
+    print(f"  the forecast (seed 0): {f.chains() / chains:.3f}x the chains, {f.seconds() / seconds:.3f}x the CPU")
+    keys = [strata.stratum(g) for g in starts]
+    ratios = []
+    for seed in range(args.draws):
+        s = strata.sample(starts, loops, args.dof, args.forecast_starts, seed, walk=walks.__getitem__, strata=keys)
+        ratios.append((s.chains() / chains, s.seconds() / seconds, s.seconds_walked / seconds))
+    for name, k in (("chains", 0), ("CPU", 1)):
+        values = [r[k] for r in ratios]
+        print(f"  {args.draws} draws of {args.forecast_starts} starts: {name} {min(values):.3f}x to {max(values):.3f}x "
+              f"(sd {statistics.pstdev(values):.3f}); within 30%: {sum(abs(v - 1) <= 0.3 for v in values)}")
+    print(f"  the sample walks {statistics.mean(r[2] for r in ratios):.3f} of the work")
+    return 0
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--links", type=int, required=True)
@@ -71,25 +104,30 @@ def main() -> int:
     parser.add_argument("--method", choices=("augment", "merge"), default="augment")
     parser.add_argument("--sample", type=int, help="walk only this many parts, drawn at random (augment)")
     parser.add_argument("--seed", type=int, default=1, help="draws the sampled parts (the forecast draws with 0)")
-    parser.add_argument("--forecast-parts", type=int, default=FORECAST_PARTS,
-                        help=f"parts the forecast walks (default {FORECAST_PARTS}, as domes chains does)")
+    parser.add_argument("--forecast-starts", type=int, default=strata.BUDGET,
+                        help=f"starts the forecast walks (default {strata.BUDGET}, as domes chains does)")
+    parser.add_argument("--census", action="store_true", help="walk every start alone, then redraw the forecast")
+    parser.add_argument("--draws", type=int, default=300, help="forecasts drawn from the census (--census)")
     parser.add_argument("--predict", type=int, nargs="*", default=[1, 2, 4, 8, 16, 32])
     args = parser.parse_args()
     from distributed import get_task_stream
 
-    f = None
-    if args.method == "augment":
-        clock = time.perf_counter()
-        f = augment_forecast(args.links, args.dof, args.workers, args.forecast_parts)
-        print(f"forecast ({time.perf_counter() - clock:.1f} s): {f.count:,.0f} chains, work {f.work:.1f} s of CPU in "
-              f"parts, serial {f.serial:.1f} s, {f.seconds_on(args.workers):.1f} s on {args.workers} workers, "
-              f"{f.worker_memory / 2**20:.0f} MiB a worker; {f.basis}")
     loops = (3 * (args.links - 1) - args.dof) // 2 - args.links + 1
+    f = starts = None
+    if args.method == "augment":
+        clock, cpu0 = time.perf_counter(), time.process_time()
+        starts, parts = augment.plan(loops, args.dof, args.workers)
+        planned = time.process_time() - cpu0
+        f = strata.sample(starts, loops, args.dof, args.forecast_starts, seed=0)
+        serial = planned + f.chains() * MERGE_SECONDS_PER_CHAIN
+        print(f"forecast ({time.perf_counter() - clock:.1f} s, {time.process_time() - cpu0:.1f} s of CPU; "
+              f"{f.walked} of {len(starts):,} starts walked, {f.seconds_walked:.1f} s of CPU): {f.chains():,.0f} "
+              f"chains, work {f.seconds():.1f} s of CPU in {parts} parts, serial {serial:.1f} s, "
+              f"{serial + IMBALANCE * f.seconds() / args.workers:.1f} s on {args.workers} workers")
+    if args.census:
+        return _census(args, starts, loops, f)
     with executor(args.workers) as run:
         if args.sample:
-            clock = time.perf_counter()
-            starts, parts = augment.plan(loops, args.dof, args.workers)
-            planned = time.perf_counter() - clock
             picked = sorted(random.Random(args.seed).sample(range(parts), min(args.sample, parts)))
             shared = run.share(pickle.dumps(starts, protocol=pickle.HIGHEST_PROTOCOL))
             start = time.perf_counter()
@@ -110,24 +148,22 @@ def main() -> int:
         peaks = run.client.run(_peak_rss)
     work, per_worker, covered, beta, tasks = _split(stream, wall, args.workers)
     serial = wall - covered
-    what = f"{len(picked)} of {parts} parts" if args.sample else "the atlas"
+    what = f"{len(picked)} of {parts} parts {picked}" if args.sample else "the atlas"
     print(f"{args.links} links, DOF {args.dof}, {what}: {count:,} chains in {wall:.1f} s on {args.workers} workers")
     print(f"  work in tasks W = {work:.1f} s of wall time ({tasks} tasks; per worker "
           + ", ".join(f"{s:.1f} s" for s in per_worker.values()) + ")")
     print(f"  wall time with a task running {covered:.1f} s: imbalance beta = {beta:.2f}; the rest S = {serial:.1f} s")
     print("  peak memory of each worker: " + ", ".join(f"{p / 2**20:.0f} MiB" for p in peaks.values()))
     if f is not None and args.sample:
-        share = len(picked) / parts
-        expect_wall = IMBALANCE * f.work * share / args.workers
-        print(f"  the forecast for these parts: {f.count * share:,.0f} chains (walked {count:,}: "
-              f"{count / (f.count * share):.2f}x), CPU {f.work * share:.1f} s (measured {cpu:.1f} s: "
-              f"{cpu / (f.work * share):.2f}x), wall {expect_wall:.1f} s (measured {wall:.1f} s: "
-              f"{wall / expect_wall:.2f}x); starts {planned:.1f} s")
-        print(f"  the whole atlas, from this sample: {count / share:,.0f} chains, CPU {cpu / share:.0f} s")
+        mine = [i for p in picked for i in range(p, len(starts), parts)]
+        chains, seconds = f.chains(mine), f.seconds(mine)
+        print(f"  the forecast for these parts: {chains:,.0f} chains (walked {count:,}: {count / chains:.2f}x), "
+              f"CPU {seconds:.1f} s (measured {cpu:.1f} s: {cpu / seconds:.2f}x)")
+        print(f"  the whole atlas, from these parts: {count * len(starts) / len(mine):,.0f} chains, CPU "
+              f"{cpu * len(starts) / len(mine):.0f} s")
     elif f is not None:
-        print(f"  the forecast: {f.count:,.0f} chains ({count / f.count:.2f}x built), work {f.work:.1f} s "
-              f"({work / f.work:.2f}x measured), {f.seconds_on(args.workers):.1f} s on {args.workers} workers "
-              f"({wall / f.seconds_on(args.workers):.2f}x measured), {f.worker_memory / 2**20:.0f} MiB a worker")
+        print(f"  the forecast: {f.chains():,.0f} chains ({count / f.chains():.2f}x built), work {f.seconds():.1f} s "
+              f"of CPU (W measured {work / f.seconds():.2f}x, wall clock in tasks)")
     if not args.sample:
         print("  model T(N) = S + beta*W/N:")
         for n in args.predict:

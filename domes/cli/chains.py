@@ -108,12 +108,12 @@ def _duration(seconds: float) -> str:
 
 
 def _confirm_large(links: int, dof: int, include_fractionated: bool, yes: bool, workers: int = 1,
-                   method: str = "merge") -> None:
+                   method: str = "merge", progress=None) -> None:
     """Say how large, long and memory-hungry the atlas will likely be, before it starts; go on if the user agrees."""
     from domes.typesynth.atlas import forecast
 
     f = (forecast(links, dof, include_fractionated) if method == "merge"
-         else forecast(links, dof, include_fractionated, method, max(workers, 1)))
+         else forecast(links, dof, include_fractionated, method, max(workers, 1), progress=progress))
     where = {0: "in one process (less on the cluster)", 1: "in this process"}.get(workers, f"on {workers} workers")
     text = (f"the atlas of {links}-link chains with DOF {dof} is very large: roughly {f.count:.1e} chains ({f.basis}), "
             f"likely {_duration(f.seconds_on(max(workers, 1)))} {where} and {f.memory / 2**30:.1f} GiB of memory")
@@ -191,7 +191,8 @@ def run_chains(args: argparse.Namespace) -> int:
     method = "merge" if args.isomorphism != "nauty" and args.method == "auto" else args.method
     if links >= LARGE_ATLAS_LINKS:
         _confirm_large(links, args.dof, args.include_fractionated, args.yes,
-                       0 if args.scheduler or os.environ.get(SCHEDULER_VARIABLE) else args.workers or 1, method)
+                       0 if args.scheduler or os.environ.get(SCHEDULER_VARIABLE) else args.workers or 1, method,
+                       progress_printer(args.progress))
     rerun = None if job is None else f"run the same command again ({args.out} keeps every finished slice)"
     streamed = not args.include_fractionated and (args.count or job is not None or args.format == "graph6")
     with executor(args.workers, args.scheduler, rerun) as run:

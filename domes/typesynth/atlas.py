@@ -54,7 +54,7 @@ from domes.model.mobility import chain_joints, check_count, joints_for
 from domes.model.pebble import decode_graph6, encode_graph6
 from domes.model.rigidity import MAX_LINKS, pair_slack
 from domes.results import Listing, Progress, Status, Ticker
-from domes.typesynth import augment
+from domes.typesynth import augment, strata
 
 Edge = tuple[int, int]
 Graph = tuple[int, tuple[Edge, ...]]  # (links, joints) with links 0..n-1
@@ -746,8 +746,8 @@ FORECAST_LINKS = 12
 GROWTH_PER_TWO_LINKS = 30
 
 
-#: Forecasts of atlases made by augmentation walk this many of their parts, drawn at random, here ...
-FORECAST_PARTS = 4
+#: Forecasts of atlases made by augmentation walk a stratified sample of this many starts here ...
+FORECAST_STARTS = strata.BUDGET
 #: ... and add, per chain, the CPU time this process takes to merge the parts' records into graph6 lines (1.5 µs:
 #: 318,162 records of 14 links in 65 parts) and the memory it holds (a record and its list entry: the 14-link
 #: run's main process peaked at 162 MiB, about 130 bytes a chain above its start) ...
@@ -785,50 +785,46 @@ class Forecast:
         return self.seconds * (SERIAL_SHARE + (1 - SERIAL_SHARE) / max(1, workers))
 
 
-def augment_forecast(links: int, dof: int, workers: int = 1, sample: int = FORECAST_PARTS, seed: int = 0) -> Forecast:
-    """The likely size, time and memory of an atlas made by augmentation, from a few of its parts walked here.
+def augment_forecast(links: int, dof: int, workers: int = 1, sample: int = FORECAST_STARTS, seed: int = 0,
+                     progress: Progress | None = None) -> Forecast:
+    """The likely size, time and memory of an atlas made by augmentation, from a sample of its starts walked here.
 
-    The parts are independent and each holds its share of every kind of start
-    (:func:`~domes.typesynth.augment.plan`), so ``sample`` parts drawn at random
-    (``seed``), scaled by the number of parts, estimate the chains and the CPU
-    time of all; the merge and the memory held per chain are rates measured on
-    14 links (:data:`MERGE_SECONDS_PER_CHAIN`, :data:`HELD_BYTES_PER_CHAIN`).
+    The starts are sampled by strata (:func:`~domes.typesynth.strata.sample`:
+    about ``sample`` starts, drawn with ``seed``), whose mean chains and CPU
+    time per start, times their starts, estimate the whole and each part (the
+    largest part sets a worker's memory); the merge and the memory held per
+    chain are rates measured on 14 links (:data:`MERGE_SECONDS_PER_CHAIN`,
+    :data:`HELD_BYTES_PER_CHAIN`). ``progress`` hears of the walks about once
+    a second.
 
-    >>> f = augment_forecast(12, 1, sample=4)              # 6856 chains in fact
-    >>> 3000 < f.count < 14000, f.basis.startswith("walked 4 of its")
+    >>> f = augment_forecast(12, 1, sample=60)              # 6856 chains in fact
+    >>> 4800 < f.count < 9000, f.basis.startswith("a stratified sample of")
     (True, True)
     """
-    import random
-
     loops = chain_joints(links, dof) - links + 1
     start = time.process_time()
     starts, parts = augment.plan(loops, dof, workers)
     planned = time.process_time() - start
-    picked = sorted(random.Random(seed).sample(range(parts), min(sample, parts)))
-    blob = pickle.dumps(starts, protocol=pickle.HIGHEST_PROTOCOL)
-    cpu, kept, biggest = 0.0, 0, 0
-    for i in picked:
-        clock = time.process_time()
-        _, stats = pickle.loads(augment.walk_part((blob, i, parts, loops, dof)))
-        cpu += time.process_time() - clock
-        kept += stats.kept
-        biggest = max(biggest, stats.kept)
-    scale = parts / len(picked)
-    count, work = kept * scale, cpu * scale
+    clock = Ticker(progress, every=1.0)
+    found = strata.sample(starts, loops, dof, sample, seed,
+                          progress=lambda text: clock.tick(lambda: f"forecast of {links} links: {text}"))
+    count, work = found.chains(), found.seconds()
+    biggest = max(found.chains(range(i, len(starts), parts)) for i in range(parts))
     serial = planned + count * MERGE_SECONDS_PER_CHAIN
     worker = PROCESS_BYTES + 4 * biggest * augment.record_width(links)
     main = PROCESS_BYTES + count * HELD_BYTES_PER_CHAIN
-    basis = (f"walked {len(picked)} of its {parts} parts here ({kept:,} chains in {cpu:.1f} s of CPU), scaled by "
-             f"{scale:.1f}")
+    basis = (f"a stratified sample of {found.walked} of its {len(starts):,} starts walked here "
+             f"({found.chains_walked:,} chains in {found.seconds_walked:.1f} s of CPU), scaled by stratum")
     return Forecast(links, dof, count, serial + work, main + worker, basis, work, serial, worker)
 
 
 def forecast(links: int, dof: int, include_fractionated: bool = False, method: str = "merge",
-             workers: int = 1) -> Forecast:
+             workers: int = 1, progress: Progress | None = None) -> Forecast:
     """The likely size, time (one process, this machine) and memory of an atlas, from smaller ones built now.
 
     With ``method`` ``augment`` (or ``auto`` from :data:`AUGMENT_LINKS` links), an atlas without a cut link is
-    forecast from a few of its own parts instead (:func:`augment_forecast`, cut for ``workers``).
+    forecast from a sample of its own starts instead (:func:`augment_forecast`, cut for ``workers``; ``progress``
+    hears of it).
 
     The three largest atlases of the same parity up to :data:`FORECAST_LINKS`
     links are built (about two seconds); the count is extrapolated from
@@ -844,7 +840,7 @@ def forecast(links: int, dof: int, include_fractionated: bool = False, method: s
     """
     chain_joints(links, dof)                            # a clear error for a size no chain has
     if not include_fractionated and dof >= 0 and (method == "augment" or (method == "auto" and links >= AUGMENT_LINKS)):
-        return augment_forecast(links, dof, workers)
+        return augment_forecast(links, dof, workers, progress=progress)
     top = links - 2
     while top > FORECAST_LINKS:
         top -= 2

@@ -35,8 +35,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pynauty
 
-from domes.model.canon import automorphisms, nauty, nauty_graph
+from domes.model.canon import nauty
 from domes.model.pebble import encode_graph6
+from domes.typesynth import earkernel
 
 Edge = tuple[int, int]
 Graph = tuple[int, tuple[Edge, ...]]
@@ -59,6 +60,23 @@ def roots(target_loops: int, target_dof: int) -> list[Graph]:
     if target_loops == 1:
         return [cycle(target_dof + 3)]
     return [cycle(f + 3) for f in range(1, target_dof + 2 * (target_loops - 1) + 1)]
+
+
+def _nauty_graph(n: int, edges: tuple[Edge, ...]) -> pynauty.Graph:
+    """The pynauty graph of a chain, :func:`~domes.model.canon.nauty_graph` made without pynauty's checks of
+    every vertex (a third of a walk's nauty time went to them)."""
+    adjacency: dict[int, list[int]] = {}
+    for u, v in edges:
+        if u in adjacency:
+            adjacency[u].append(v)
+        else:
+            adjacency[u] = [v]
+    graph = object.__new__(pynauty.Graph)
+    graph.number_of_vertices = n
+    graph.directed = False
+    graph._adjacency_dict = adjacency
+    graph._vertex_coloring = []
+    return graph
 
 
 # -- the canonical-ear test -----------------------------------------------------------------------------------------
@@ -146,6 +164,22 @@ def _removable(adjm: list[int], full: int, branch: Branch) -> bool:
         adjm[a], adjm[b] = saved_a, saved_b
 
 
+def removable_branches(n: int, adjm: list[int], branches: list[Branch]) -> list[bool]:
+    """:func:`_removable` for each branch of a 2-connected chain of ``n`` links (neighbours as bitmasks), by the
+    compiled test when there is one (:func:`domes.typesynth.earkernel.load`; the same answers)."""
+    kernels = earkernel.load() if n <= 62 else None
+    if kernels is None:
+        full = (1 << n) - 1
+        return [_removable(adjm, full, br) for br in branches]
+    given = adjm.copy()
+    for a, b, links in branches:
+        mask = 0
+        for x in links:
+            mask |= 1 << x
+        given += (a, b, mask)
+    return kernels.removable(np.array(given, dtype=np.int64), n).tolist()
+
+
 def _fine(branch: Branch, deg: list[int], adjm: list[int]) -> tuple:
     """A finer invariant of a branch, for ties: its length, and at each end its degree and its neighbours'."""
     a, b, inner = branch
@@ -174,25 +208,30 @@ class Stats:
 
 
 def canonical_ear(n: int, deg: list[int], adjm: list[int], branches: list[Branch], mine: Branch,
-                  edges=None, stats: Stats | None = None):
+                  edges=None, stats: Stats | None = None, sure: list[bool] | None = None):
     """Whether the branch ``mine`` of a chain (links' degrees ``deg``, neighbours as bitmasks ``adjm``, every
     branch in ``branches``) is, up to the chain's automorphisms, its canonical removable branch: the largest by
     length and end degrees, then by :func:`_fine`, then the one with the least canonical labels (nauty). Returns
     None if not, else nauty's canonical labelling (``order[i]`` is the link that becomes link ``i``) when it
-    was computed, or ``()``. ``edges`` (the chain's joints) are needed only for nauty."""
+    was computed, or ``()``. ``edges`` (the chain's joints) are needed only for nauty; ``sure[i]``, if given, is
+    True for branches known to be removable (not tested)."""
     da, db = deg[mine[0]], deg[mine[1]]
-    here = (len(mine[2]), da, db) if da >= db else (len(mine[2]), db, da)
-    full = (1 << n) - 1
-    ties = []
-    for branch in branches:
+    here = len(mine[2]) << 16 | (da << 8 | db if da >= db else db << 8 | da)      # (length, end degrees), packed
+    larger, ties = [], []
+    for i, branch in enumerate(branches):
         x, y = deg[branch[0]], deg[branch[1]]
-        inv = (len(branch[2]), x, y) if x >= y else (len(branch[2]), y, x)
+        inv = len(branch[2]) << 16 | (x << 8 | y if x >= y else y << 8 | x)
         if inv > here:
-            if _removable(adjm, full, branch):
+            if sure is not None and sure[i]:
                 return None
+            larger.append(branch)
         elif inv == here and branch != mine:
             ties.append(branch)
-    ties = [t for t in ties if _removable(adjm, full, t)]
+    if larger or ties:
+        free = removable_branches(n, adjm, larger + ties)
+        if any(free[:len(larger)]):
+            return None
+        ties = [t for t, f in zip(ties, free[len(larger):]) if f]
     if not ties:
         return ()
     fine = _fine(mine, deg, adjm)
@@ -204,7 +243,7 @@ def canonical_ear(n: int, deg: list[int], adjm: list[int], branches: list[Branch
         return ()
     # nauty: the canonical branch is the one whose links have the least canonical labels; the ear is kept if
     # an automorphism takes it there.
-    graph = nauty_graph(n, edges)
+    graph = _nauty_graph(n, edges if edges is not None else [(a, b) for a in range(n) for b in _bits(adjm[a]) if a < b])
     order = nauty(pynauty.canon_label, graph)
     generators = nauty(pynauty.autgrp, graph)[0]
     if stats is not None:
@@ -271,20 +310,22 @@ def record(n: int, edges: tuple[Edge, ...], order) -> bytes:
     compacted) and its canonical graph6. Records of one size have one width; sorted as bytes, they are in the
     atlas's order. ``order`` is nauty's canonical labelling (computed here if empty)."""
     if not order:
-        order = nauty(pynauty.canon_label, nauty_graph(n, edges))
+        order = nauty(pynauty.canon_label, _nauty_graph(n, edges))
     label = [0] * n
     for i, x in enumerate(order):
         label[x] = i
-    rows = [0] * n
+    width, top, shifts = _layout(n)
+    row = 8 * width
+    cert = g6 = 0                                     # the certificate's rows and the graph6 bits, as integers
     deg = [0] * n
-    canon = []
     for a, b in edges:
         a, b = label[a], label[b]
-        rows[a] |= 1 << (63 - b)
-        rows[b] |= 1 << (63 - a)
+        if a > b:
+            a, b = b, a
+        cert |= 1 << (row * (a + 1) - 1 - b) | 1 << (row * (b + 1) - 1 - a)
+        g6 |= 1 << (top - (b * (b - 1) // 2 + a))     # column by column: (0,1), (0,2), (1,2), (0,3), ...
         deg[a] += 1
         deg[b] += 1
-        canon.append((a, b) if a < b else (b, a))
     counts = [0] * (n + 1)
     for d in deg:
         counts[d] += 1
@@ -292,9 +333,22 @@ def record(n: int, edges: tuple[Edge, ...], order) -> bytes:
     while counts and not counts[-1]:
         counts.pop()
     key = bytes(255 - c for c in counts).ljust(n - 1, b"\0")
-    skip = 8 - _row_bytes(n)
-    cert = b"".join(r.to_bytes(8, "little")[skip:] for r in rows)
-    return bytes([n]) + key + cert + encode_graph6(n, canon).encode("ascii")
+    return (bytes([n]) + key + cert.to_bytes(n * width, "little") + bytes([n + 63])
+            + bytes([(g6 >> s & 63) + 63 for s in shifts]))
+
+
+_LAYOUTS: dict[int, tuple[int, int, tuple[int, ...]]] = {}
+
+
+def _layout(n: int) -> tuple[int, int, tuple[int, ...]]:
+    """For chains of ``n`` links: the bytes of a certificate row, the bit of graph6's first pair (the upper
+    triangle's bits, padded with zeros to a multiple of six), and the shifts that cut them into graph6's
+    characters, first to last."""
+    if n not in _LAYOUTS:
+        total = n * (n - 1) // 2
+        chars = -(-total // 6)
+        _LAYOUTS[n] = (_row_bytes(n), 6 * chars - 1, tuple(6 * (chars - 1 - i) for i in range(chars)))
+    return _LAYOUTS[n]
 
 
 def _row_bytes(n: int) -> int:
@@ -330,7 +384,7 @@ class _Parent:
     """A chain about to be given ears: its links' neighbours and degrees, its branches, and which branch each
     binary link lies in, so that each child's branches are the parent's with at most two split."""
 
-    def __init__(self, graph: Graph):
+    def __init__(self, graph: Graph, shortest: int = 0):
         n, edges = self.graph = graph
         self.n, self.edges = n, edges
         adjm = [0] * n
@@ -345,11 +399,23 @@ class _Parent:
         for i, (_, _, inner) in enumerate(self.branches):
             for j, x in enumerate(inner):
                 self.where[x] = (i, j)
-        full = (1 << n) - 1
         #: the branches whose removal leaves the parent 2-connected, longest first: in a child they stay
-        #: removable unless the ear splits them (an ear added to a 2-connected chain keeps it so)
-        self.removable = sorted(((len(br[2]), br[0], br[1], i) for i, br in enumerate(self.branches)
-                                 if _removable(adjm, full, br)), reverse=True)
+        #: removable unless the ear splits them (an ear added to a 2-connected chain keeps it so). Only
+        #: branches as long as the ``shortest`` ear are tested: a shorter one never competes with an ear.
+        long = [i for i, br in enumerate(self.branches) if len(br[2]) >= shortest]
+        free = [False] * len(self.branches)
+        if long:
+            for i, f in zip(long, removable_branches(n, adjm, [self.branches[i] for i in long])):
+                free[i] = f
+        self.free = free
+        self.removable = sorted(((len(br[2]), br[0], br[1], i) for i, (br, f) in enumerate(zip(self.branches, free))
+                                 if f), reverse=True)
+
+    def needed(self, k: int) -> list[int] | None:
+        """The removable branches of the parent longer than ``k`` (indices): an ear of ``k`` links can be canonical
+        only if it splits every one of them, so None when there are more than two (an ear splits at most two)."""
+        longer = [i for length, _, _, i in self.removable if length > k]
+        return longer if len(longer) <= 2 else None
 
     def beaten(self, u: int, v: int, k: int) -> bool:
         """True if the child with an ear of ``k`` links on ``u``, ``v`` surely has a removable branch of a larger
@@ -374,37 +440,53 @@ class _Parent:
 
     def child(self, u: int, v: int, k: int):
         """The child with an ear of ``k`` new links from ``u`` to ``v``: its joints, degrees, neighbours,
-        branches, and the ear as a branch."""
+        branches, the ear as a branch, and for each branch whether it is surely removable (the ear, and the
+        parent's removable branches the ear does not split)."""
         n = self.n
         new = tuple(range(n, n + k))
-        path = (u, *new, v)
-        edges = self.edges + tuple(zip(path, path[1:]))
         adjm = self.adjm + [0] * k
-        for a, b in zip(path, path[1:]):
-            adjm[a] |= 1 << b
-            adjm[b] |= 1 << a
+        if k:
+            edges = (*self.edges, (u, n), *((x, x + 1) for x in range(n, n + k - 1)), (n + k - 1, v))
+            adjm[u] |= 1 << n
+            adjm[v] |= 1 << (n + k - 1)
+            for x in new:
+                adjm[x] = 1 << (x - 1 if x > n else u) | 1 << (x + 1 if x < n + k - 1 else v)
+        else:
+            edges = (*self.edges, (u, v))
+            adjm[u] |= 1 << v
+            adjm[v] |= 1 << u
         deg = self.deg + [2] * k
         deg[u] += 1
         deg[v] += 1
         mine = (u, v, new) if u < v else (v, u, new[::-1])
         if self.loop:
-            return edges, deg, adjm, _branches(n + k, adjm, deg), mine
-        cut: dict[int, list[int]] = {}
-        for x in (u, v):
-            if x in self.where:
-                i, j = self.where[x]
-                cut.setdefault(i, []).append(j)
-        branches = [br for i, br in enumerate(self.branches) if i not in cut]
-        for i, places in cut.items():
-            a, b, inner = self.branches[i]
-            ends = [a, *(inner[j] for j in sorted(places)), b]
-            bounds = [-1, *sorted(places), len(inner)]
+            branches = _branches(n + k, adjm, deg)
+            return edges, deg, adjm, branches, mine, [br == mine for br in branches]
+        branches = self.branches.copy()
+        sure = self.free.copy()
+        where = self.where
+        wu, wv = where.get(u), where.get(v)
+        if wu is not None and wv is not None and wu[0] == wv[0]:
+            cuts = [(wu[0], sorted((wu[1], wv[1])))]
+        else:
+            cuts = [(w[0], [w[1]]) for w in (wu, wv) if w is not None]
+        for i, places in cuts:
+            a, b, inner = branches[i]
+            ends = [a, *(inner[j] for j in places), b]
+            bounds = [-1, *places, len(inner)]
             for s in range(len(ends) - 1):
                 piece = inner[bounds[s] + 1:bounds[s + 1]]
                 p, q = ends[s], ends[s + 1]
-                branches.append((p, q, piece) if p < q else (q, p, piece[::-1]))
+                piece = (p, q, piece) if p < q else (q, p, piece[::-1])
+                if s:
+                    branches.append(piece)
+                    sure.append(False)
+                else:
+                    branches[i] = piece
+                    sure[i] = False
         branches.append(mine)
-        return edges, deg, adjm, branches, mine
+        sure.append(True)                                 # the parent is 2-connected
+        return edges, deg, adjm, branches, mine, sure
 
 
 def ear_is_free(n: int, deg: list[int], branches: list[Branch], mine: Branch) -> bool:
@@ -417,10 +499,10 @@ def ear_is_free(n: int, deg: list[int], branches: list[Branch], mine: Branch) ->
     entries for ``L`` loops), not over all ``2**n`` sets of links.
 
     >>> parent = _Parent((5, ((0, 2), (2, 1), (0, 3), (3, 4), (4, 1))))     # a five-bar loop
-    >>> _, deg, _, branches, mine = parent.child(0, 1, 0)                   # a joint 0-1: a rigid triangle 0-1-2
+    >>> _, deg, _, branches, mine, _ = parent.child(0, 1, 0)                 # a joint 0-1: a rigid triangle 0-1-2
     >>> ear_is_free(5, deg, branches, mine)
     False
-    >>> _, deg, _, branches, mine = parent.child(2, 4, 1)                   # a link on 2 and 4: a four-bar loop
+    >>> _, deg, _, branches, mine, _ = parent.child(2, 4, 1)                 # a link on 2 and 4: a four-bar loop
     >>> ear_is_free(6, deg, branches, mine)
     True
     """
@@ -428,27 +510,88 @@ def ear_is_free(n: int, deg: list[int], branches: list[Branch], mine: Branch) ->
     others = [x for x in range(n) if deg[x] >= 3 and x != u and x != v]
     place = {x: 1 << i for i, x in enumerate(others)}
     place[u] = place[v] = 0
+    need, change = [], []
+    for a, b, inner in branches:
+        if len(inner) <= 1:
+            need.append(place[a] | place[b])
+            change.append(len(inner) - 2)
+    # the whole chain is not a sub-chain: leave one out
+    whole = 2 - max(len(br[2]) for br in branches) if len(need) == len(branches) else 0
+    kernels = earkernel.load() if len(others) <= 24 else None
+    if kernels is not None:
+        least = kernels.least_freedom(len(others), np.array(need, dtype=np.int64), np.array(change, dtype=np.int64),
+                                      whole)
+        return bool(least >= 1)
     subsets = np.arange(1 << len(others), dtype=np.int32)
     table = 3 * (np.bitwise_count(subsets).astype(np.int32) + 1)
-    for a, b, inner in branches:
-        m = len(inner)
-        if m <= 1:
-            need = place[a] | place[b]
-            table += np.where(subsets & need == need, m - 2, 0).astype(np.int32)
-    if all(len(br[2]) <= 1 for br in branches):
-        table[-1] += 2 - max(len(br[2]) for br in branches)   # the whole chain is not a sub-chain: leave one out
+    for mask, m in zip(need, change):
+        table += np.where(subsets & mask == mask, m, 0).astype(np.int32)
+    table[-1] += whole
     return bool(table.min() >= 1)
 
 
 def _pairs(parent: _Parent, ks: list[int], stats: Stats | None):
-    """``(k, u, v)``: for each ear length, one pair of links per orbit of the parent's automorphisms."""
-    n, edges = parent.graph
-    group = automorphisms(n, edges)
+    """``(k, u, v)``: for each ear length, one pair of links per orbit of the parent's automorphisms, among the
+    pairs whose ear splits every removable branch of the parent longer than the ear (:meth:`_Parent.needed`; the
+    others are never canonical). These sets are closed under the automorphisms, so one orbit representative of
+    each is taken from the union."""
+    n = parent.n
+    adjm = parent.adjm
+    wanted: dict[int, set[Edge]] = {}
+    everything = None
+    for k in ks:
+        need = parent.needed(k) if parent.branches else []
+        if need is None:
+            continue
+        if not need:
+            if everything is None:
+                everything = {(u, v) for u in range(n) for v in range(u + 1, n)}
+            pairs = everything
+        else:
+            inner = [parent.branches[i][2] for i in need]
+            if len(inner) == 1:
+                pairs = {(x, y) if x < y else (y, x) for x in inner[0] for y in range(n) if y != x}
+            else:
+                pairs = {(x, y) if x < y else (y, x) for x in inner[0] for y in inner[1]}
+        if not k:
+            pairs = {(u, v) for u, v in pairs if not adjm[u] >> v & 1}
+        if pairs:
+            wanted[k] = pairs
+    if not wanted:
+        return
+    union = set().union(*wanted.values())
+    generators = nauty(pynauty.autgrp, _nauty_graph(n, parent.edges))[0]
     if stats is not None:
         stats.nauty_calls += 1
-    reps = group.pair_orbit_representatives((u, v) for u in range(n) for v in range(u + 1, n))
+    reps = _pair_orbits(union, generators)
     for k in ks:
-        yield from ((k, u, v) for u, v in reps if k or not parent.adjm[u] >> v & 1)
+        if k in wanted:
+            pairs = wanted[k]
+            yield from ((k, u, v) for u, v in reps if (u, v) in pairs)
+
+
+def _pair_orbits(pairs: set[Edge], generators) -> list[Edge]:
+    """The least pair of each orbit of the group of ``generators`` on ``pairs`` (closed under it), sorted."""
+    if not generators:
+        return sorted(pairs)
+    parent = {p: p for p in pairs}
+
+    def find(p: Edge) -> Edge:
+        while parent[p] != p:
+            parent[p] = parent[parent[p]]
+            p = parent[p]
+        return p
+
+    for perm in generators:
+        for u, v in pairs:
+            a, b = perm[u], perm[v]
+            a, b = find((u, v)), find((a, b) if a < b else (b, a))
+            if a != b:
+                if a < b:
+                    parent[b] = a
+                else:
+                    parent[a] = b
+    return sorted({find(p) for p in pairs})
 
 
 def children(parent: Graph, k: int, stats: Stats | None = None):
@@ -462,14 +605,14 @@ def children(parent: Graph, k: int, stats: Stats | None = None):
 
 
 def _children(graph: Graph, ks, stats):
-    parent = _Parent(graph)
+    parent = _Parent(graph, min(ks))
     for k, u, v in _pairs(parent, ks, stats):
         if stats is not None:
             stats.candidates += 1
         if parent.beaten(u, v, k):
             continue
-        edges, deg, adjm, branches, mine = parent.child(u, v, k)
-        order = canonical_ear(parent.n + k, deg, adjm, branches, mine, edges, stats)
+        edges, deg, adjm, branches, mine, sure = parent.child(u, v, k)
+        order = canonical_ear(parent.n + k, deg, adjm, branches, mine, edges, stats, sure)
         if order is not None and (k >= 2 or ear_is_free(parent.n + k, deg, branches, mine)):
             yield (parent.n + k, edges), order
 
@@ -542,6 +685,9 @@ STARTS_PER_PART = 250
 PARTS_PER_WORKER = 8
 
 
+_STARTS: dict = {}
+
+
 def plan(loops: int, dof: int, workers: int = 1) -> tuple[list[Graph], int]:
     """The starts of the walks to the chains of ``loops`` loops and DOF ``dof`` (the chains of
     :data:`START_LOOPS` loops, or two fewer than the target, on the way there, by canonical augmentation here)
@@ -549,7 +695,11 @@ def plan(loops: int, dof: int, workers: int = 1) -> tuple[list[Graph], int]:
     to cut them into: part ``i`` of ``p`` walks from ``starts[i::p]``. The starts are sorted by DOF, whose
     subtrees differ most, so that each part holds its share of every DOF: parts of similar size, and a few
     parts drawn at random tell the size of the whole (:func:`~domes.typesynth.atlas.forecast`)."""
-    starts = frontier(loops, dof, max(1, min(loops - 2, START_LOOPS)))
+    key = (loops, dof, max(1, min(loops - 2, START_LOOPS)))
+    if key not in _STARTS:                             # a forecast and the run after it make the same starts
+        _STARTS.clear()
+        _STARTS[key] = frontier(*key)
+    starts = list(_STARTS[key])
     starts.sort(key=lambda g: 3 * (g[0] - 1) - 2 * len(g[1]))      # by DOF (stable): every part gets its share
     parts = max(1, min(len(starts), max(PARTS_PER_WORKER * workers, -(-len(starts) // STARTS_PER_PART))))
     return starts, parts

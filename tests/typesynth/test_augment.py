@@ -65,7 +65,7 @@ def test_the_rigidity_test_of_an_ear_is_the_subset_tables():
                 for k in (0, 1):
                     if k == 0 and parent.adjm[u] >> v & 1:
                         continue
-                    _, deg, _, branches, mine = parent.child(u, v, k)
+                    _, deg, _, branches, mine, _ = parent.child(u, v, k)
                     assert augment.ear_is_free(graph[0] + k, deg, branches, mine) == (slack[u, v] >= 3 - k)
                     checked += 1
     assert checked > 1000
