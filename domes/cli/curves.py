@@ -104,6 +104,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                    f"fitted, {DRAWN_CANDIDATES})")
     q.add_argument("--tol", type=float, default=None,
                    help="largest distance accepted, relative to the path's size (default 1e-6; open paths 1e-3)")
+    q.add_argument("--six-bars", choices=("no", "auto", "yes"), default="no", dest="six_bars",
+                   help="also fit Watt and Stephenson six-bars to a closed path: auto when no four-bar fits within "
+                   "the tolerance, yes always (default no; the six-bar atlas is built in your data folder the first "
+                   "time, docs/curves.md)")
     q.add_argument("--format", choices=("text", "json", "html"), default="text")
     q.add_argument("--output", "-o", help="write to this file (atomically) instead of standard output")
     q.add_argument("--save", metavar="FILE.json", help="save the best linkage as a mechanism file")
@@ -294,7 +298,7 @@ def run_match(args) -> int:
     from domes.motion.coupler.curves import trace
     from domes.motion.coupler.fit import check_wanted
     from domes.motion.coupler.freehand import CANDIDATES as DRAWN_CANDIDATES
-    from domes.motion.coupler.match import CANDIDATES, match
+    from domes.motion.coupler.match import CANDIDATES, kind_of, match
     from domes.sketch.curves import Card, curves_html, joint_names, moving_svg
 
     for path in (args.output, args.save):
@@ -306,6 +310,9 @@ def run_match(args) -> int:
         check_wanted(wanted)                # before the atlas, which may have to be built first
     except InputError as exc:
         raise InputError(f"{args.file}: {exc}") from None
+    if args.six_bars != "no" and (args.drawn or args.open):
+        raise InputError("--six-bars: six-bars are fitted to exact closed paths, not yet to open paths or paths "
+                         "drawn by hand")
     sketch, timing = None, _timing(args)
     if args.drawn:
         from domes.motion.coupler.freehand import drawn, match_drawn
@@ -324,6 +331,11 @@ def run_match(args) -> int:
     if table.meta.get("kind", "closed") != kind:
         raise InputError(f"{args.atlas}: an atlas of {table.meta.get('kind')} paths, but the path is {kind}")
     atlas = OpenAtlas(table) if kind == "open" else Atlas(table)
+    six = None
+    if args.six_bars != "no":
+        from domes.io.sixatlas import default_sixatlas
+
+        six = default_sixatlas()
     if sketch is not None:
         try:
             result = match_drawn(wanted, atlas, args.results, DRAWN_CANDIDATES if args.candidates is None else
@@ -332,13 +344,13 @@ def run_match(args) -> int:
             raise InputError(f"{args.file}: {exc}") from None
     else:
         result = match(wanted, atlas, args.results, CANDIDATES if args.candidates is None else args.candidates,
-                       args.tol, progress=progress)
+                       args.tol, progress=progress, sixbars=args.six_bars, sixatlas=six)
     if args.save and result.fits and result.fits[0].mechanism is not None:
         save_mechanism(result.fits[0].mechanism, args.save)
     if args.format == "json":
         doc = {"message": result.message, "tried": result.tried, "lookup_ms": result.lookup_seconds * 1e3,
                "refine_s": result.refine_seconds, "size": result.size, "fits": [
-                   {"success": f.success, "lengths": list(f.lengths), "coupler": list(f.coupler),
+                   {"success": f.success, "type": kind_of(f), "lengths": list(f.lengths), "coupler": list(f.coupler),
                     "before": {"max": f.before[0], "rms": f.before[1]}, "after": {"max": f.after[0], "rms": f.after[1]},
                     "mechanism": f.mechanism.to_dict() if f.mechanism else None, **_timed_doc(f),
                     "merged": [{"relation": why, "lengths": list(g.lengths), "coupler": list(g.coupler),
@@ -406,6 +418,9 @@ def _pivots(f):
 
 
 def _merged_text(g, why: str) -> str:
+    if hasattr(g, "ternary"):
+        return f"{why}: {g.kind}, links " + ", ".join(f"{x:.6g}" for x in g.lengths) + f"; largest distance " \
+            f"{g.after[0]:.3g}"
     a, b, c, d = g.lengths
     where = "" if g.mechanism is None else (" frame pivots A, D " + ", ".join(f"({x:.6g}, {y:.6g})"
                                                                              for x, y in _pivots(g)) + ";")
@@ -421,6 +436,8 @@ def _nearest(points, wanted):
 
 
 def _fit_props(f):
+    if hasattr(f, "ternary"):
+        return _six_props(f)
     a, b, c, d = f.lengths
     props = [("fits", "yes" if f.success else "no"), ("crank, coupler, rocker, frame", f"{a:.6g}, {b:.6g}, {c:.6g}, {d:.6g}"),
              ("coupler point (u, v)", f"{f.coupler[0]:.6g}, {f.coupler[1]:.6g}"),
@@ -436,4 +453,18 @@ def _fit_props(f):
         if f.speed is not None:
             props.append(("crank speed", f"{f.speed:.6g}° per unit of time"))
         props.append(("from the curve (anywhere on it)", f"largest {f.curve[0]:.3g}, RMS {f.curve[1]:.3g}"))
+    return tuple(props)
+
+
+def _six_props(f):
+    """A fitted six-bar's lines: its type, links, joint E's and point P's places, errors and frame pivots."""
+    props = [("fits", "yes" if f.success else "no"), ("type", f.kind),
+             ("crank, coupler, rocker, frame, tracer, link", ", ".join(f"{x:.6g}" for x in f.lengths)),
+             ("joint E on its link (p, q)", f"{f.ternary[0]:.6g}, {f.ternary[1]:.6g}"),
+             ("point P on link E F (u, v)", f"{f.coupler[0]:.6g}, {f.coupler[1]:.6g}"),
+             ("largest distance", f"{f.after[0]:.3g} (before refinement {f.before[0]:.3g})"),
+             ("RMS distance", f"{f.after[1]:.3g}")]
+    if f.mechanism is not None:
+        props.append(("frame pivots A, D, G", ", ".join(f"({x:.6g}, {y:.6g})" for x, y in
+                                                        (f.mechanism.joint(n).at for n in "ADG"))))
     return tuple(props)

@@ -39,6 +39,13 @@ CANDIDATES = 30
 #: fit); an open stretch constrains a four-bar weakly (a near-degenerate family of linkages passes close to a
 #: short arc), so its refinement converges slowly past about 1e-4 and the default asks 1e-3 (docs/curves.md).
 TOL = {"closed": 1e-6, "open": 1e-3}
+#: When six-bars are tried too: never, when no four-bar fits within the tolerance, or always (closed paths only;
+#: :mod:`domes.motion.coupler.sixmatch`).
+SIXBARS = ("no", "auto", "yes")
+#: With ``sixbars="auto"``, four-bar candidates refined at most before six-bars are tried: a four-bar curve is
+#: matched by one of its first candidates, and refining all of them for a curve no four-bar makes costs tens of
+#: seconds.
+AUTO_FOURBARS = 5
 
 
 @dataclass(frozen=True, eq=False)
@@ -63,6 +70,8 @@ class Matching(Listing):
     def message(self) -> str:
         good = sum(f.success for f in self.fits) + sum(g.success for m in self.merged for g, _ in m)
         best = f"best: largest distance {self.fits[0].after[0]:.3g}" if self.fits else "none could be refined"
+        if any(kind_of(f) != "four-bar" for f in self.fits):
+            best = f"best: {kind_of(self.fits[0])}, largest distance {self.fits[0].after[0]:.3g}"
         same = sum(len(m) for m in self.merged)
         same = f"; {same} merged into the linkage they repeat (same linkage, cognate or mirror)" if same else ""
         return (f"{self.status}: {good} of {self.tried} candidates fit within {self.tol:g} of the path's size "
@@ -71,14 +80,25 @@ class Matching(Listing):
 
 
 def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = CANDIDATES, tol: float | None = None,
-          max_nfev: int = 200, progress: Progress | None = None) -> Matching:
+          max_nfev: int = 200, progress: Progress | None = None, sixbars: str = "no", sixatlas=None) -> Matching:
     """Refine atlas candidates for the path through ``points`` until ``results`` fit within ``tol``.
 
     With an :class:`~domes.motion.coupler.atlas.Atlas` the path is closed;
     with an :class:`~domes.motion.coupler.atlas.OpenAtlas` it is an open
     stretch, looked up among windows of the atlas's curves. ``tol`` is
     relative to the path's size (default :data:`TOL` of its kind).
+    ``sixbars`` (:data:`SIXBARS`) says when Watt and Stephenson six-bars
+    are fitted too (from ``sixatlas``, by default one built in memory;
+    the command line keeps it in the data folder); the
+    fits are then listed together, those within ``tol`` first (four-bars
+    before six-bars), then by their largest distance.
     """
+    if sixbars not in SIXBARS:
+        raise InputError(f"sixbars {sixbars!r}: one of {', '.join(SIXBARS)}")
+    if sixbars != "no" and isinstance(atlas, OpenAtlas):
+        raise InputError("six-bars are matched to closed paths only; leave out the six-bars or the open path")
+    if sixbars == "auto":
+        candidates = min(candidates, AUTO_FOURBARS)
     if tol is None:
         tol = TOL["open" if isinstance(atlas, OpenAtlas) else "closed"]
     if not tol > 0:
@@ -120,8 +140,27 @@ def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = 
         count += 1 + len(merged[shown])
         shown += 1
     note = "; ".join(n for n in (resampled_note(len(target)), line) if n)
-    return Matching(tuple(kept[:max(shown, 1)]), tried, t1 - t0, time.perf_counter() - t1, size, tol, note,
-                    tuple(tuple(m) for m in merged[:max(shown, 1)]))
+    kept, merged = kept[:max(shown, 1)], [tuple(m) for m in merged[:max(shown, 1)]]
+    if sixbars == "yes" or (sixbars == "auto" and not any(f.success for f in kept)):
+        from domes.motion.coupler.sixatlas import built
+        from domes.motion.coupler.sixmatch import match_sixbars
+
+        clock.tick(lambda: "fitting six-bars")
+        six, six_merged, six_tried = match_sixbars(target, sixatlas or built(), results, tol)
+        tried += six_tried
+        order = sorted(range(len(kept) + len(six)), key=lambda k: _rank((kept + six)[k]))
+        kept, merged = [(kept + six)[k] for k in order], [(merged + [tuple(m) for m in six_merged])[k] for k in order]
+    return Matching(tuple(kept), tried, t1 - t0, time.perf_counter() - t1, size, tol, note, tuple(merged))
+
+
+def kind_of(f) -> str:
+    """The type of a fitted linkage: ``four-bar`` or the six-bar's type."""
+    return getattr(f, "kind", "four-bar")
+
+
+def _rank(f):
+    """Fits within the tolerance first, four-bars (the simpler linkage) before six-bars; then the nearest."""
+    return (not f.success, f.success and kind_of(f) != "four-bar", f.mechanism is None, f.after[0])
 
 
 def _on_one_line(target, size: float) -> bool:
