@@ -16,12 +16,14 @@ import pytest
 from kinematics_cases import example
 from test_dyads import _dyad_mechanisms
 
-from domes.errors import InputError
+from domes.errors import InputError, NumericalError
 from domes.motion import CouplerPoint, Input, Joint, Kinematics, Mechanism
-from domes.motion.planar import compiled
+from domes.motion.planar import compiled, onepass
 from domes.motion.planar.batch import ExtremesSink, batch
+from domes.motion.planar.continuation import Continuation, grid, grid_points
+from domes.motion.planar.examples import parallelogram, triple_rocker
 from domes.motion.planar.kernel import Program
-from domes.motion.planar.sweep import sweep
+from domes.motion.planar.sweep import run_sweep, sweep
 
 numba = pytest.importorskip("numba")
 
@@ -163,3 +165,93 @@ def test_batches_equal_numpy(outputs):
         assert np.array_equal(ex.argmin[c][some], np.nanargmin(b.values[c][some], axis=1))
         assert np.array_equal(ex.argmax[c][some], np.nanargmax(b.values[c][some], axis=1))
         assert np.all(ex.argmin[c][~some] == -1) and np.all(np.isnan(ex.minimum[c][~some]))
+
+
+def _taken(kin, start, stop, step):
+    """Whether the sweep goes by the one compiled pass (``onepass``), not handed to the numpy walk."""
+    cont = Continuation(kin)
+    return onepass.sweep(kin, cont, grid_points(start, stop, step)) is not None
+
+
+def _same_sweeps(a, b, m, what, near=False):
+    """The two routes' sweeps: the same steps, columns and dead points; numbers within 1e-14 of their scale (times
+    the condition number per derivative; once more for every column ``near`` a singular point, where the pose
+    itself is known only to ``cond·ε``)."""
+    assert a.status == b.status and np.array_equal(a.inputs, b.inputs) and a.reachable == b.reachable, what
+    assert a.columns == b.columns and set(a.states) == set(b.states), what
+    assert [(d.kind, d.group) for d in a.dead_points] == [(d.kind, d.group) for d in b.dead_points], what
+    for d, e in zip(a.dead_points, b.dead_points):
+        assert abs(d.input - e.input) <= d.within + e.within, what
+    speed, extra = abs(m.inputs[0].speed), 1 if near else 0
+    for c in a.columns:
+        k = len(c) - len(c.rstrip("'"))
+        scale = (1.0 if c.startswith("angle") else m.size) * speed ** k
+        _close(a.column(c), b.column(c), (scale + np.abs(a.column(c))) * a.conditions ** (k + extra), what=(what, c))
+    for v in a.states:
+        scale = 1.0 if v.startswith("rot:") or (v.startswith("q:") and m.joint(v[2:]).kind == "R") else m.size
+        _close(a.states[v], b.states[v], (scale + np.abs(a.states[v])) * a.conditions ** extra, what=(what, v))
+    assert np.allclose(a.conditions, b.conditions, rtol=1e-12 * (1e3 if near else 1), atol=0) and \
+        np.all(np.abs(a.residuals - b.residuals) <= 1e-15), what
+
+
+def _both(monkeypatch, m, start, stop, step, outputs=None, order=2):
+    """The sweep by each route (or the error each raises)."""
+    runs = []
+    for route in ("numpy", "numba"):
+        monkeypatch.setenv(compiled.VARIABLE, route)
+        try:
+            runs.append(run_sweep(Kinematics(m, outputs, order), start, stop, step))
+        except NumericalError as exc:
+            runs.append(str(exc))
+    return runs
+
+
+def test_one_pass_equals_numpy_on_every_dyad_kind(monkeypatch):
+    # every mechanism of drivers and dyads above, all outputs and rates, a full turn (or ±1 of a slide) from the
+    # drawn pose; the benchmark's mechanisms also from away from the drawn pose, backwards, by steps longer than the
+    # resolution (the walk there, the steps between)
+    # (the PRP's slider jumps before 90°, where the numpy walk takes seconds to locate the discontinuity: 54°)
+    cases = [(name, m, 0.0, 0.15 if name == "PRP" else 1.0, 1 / 90) for name, m in _mechanisms().items()]
+    cases += [(name, example(name), 0.3, -0.1, 1 / 37) for name in ("four-bar.json", "watt-six-bar.json",
+                                                                     "stephenson-six-bar.json")]
+    taken = compared = 0
+    for name, m, lo, hi, step in cases:
+        q0 = Kinematics(m).drawn_inputs()[m.inputs[0].joint]
+        span = 1.0 if m.joint(m.inputs[0].joint).kind == "P" else 2 * math.pi
+        a, b = _both(monkeypatch, m, q0 + lo * span, q0 + hi * span, step * span)
+        if isinstance(a, str) or isinstance(b, str):
+            assert a == b, name
+            continue
+        _same_sweeps(a, b, m, name)
+        compared += 1
+        taken += _taken(Kinematics(m, None, 2), q0 + lo * span, q0 + hi * span, step * span)
+    assert taken == compared >= 10  # every kind of dyad, and the walk from away from the drawn pose, in one pass
+    for name in ("four-bar.json", "watt-six-bar.json", "stephenson-six-bar.json"):  # nothing there to decide
+        m = example(name)
+        q0 = Kinematics(m).drawn_inputs()[m.inputs[0].joint]
+        assert _taken(Kinematics(m, None, 2), q0, q0 + 2 * math.pi, math.pi / 180), name
+
+
+def test_decisions_are_left_to_the_numpy_walk(monkeypatch):
+    # a limit (the triple rocker) and branch points (the parallelogram's, twice a turn): the one pass declines,
+    # and the compiled route reports them as the numpy route does
+    for m, start, stop in ((triple_rocker(), 0.0, math.radians(130)), (parallelogram(), 1.0, 1.0 + 2 * math.pi)):
+        assert not _taken(Kinematics(m, ["angle:rocker"], 1), start, stop, math.radians(1)), m.name
+        a, b = _both(monkeypatch, m, start, stop, math.radians(1), ["angle:rocker"], 1)
+        assert b.dead_points, m.name
+        _same_sweeps(a, b, m, m.name, near=True)
+
+
+def test_angle_is_numpys_to_two_units_in_the_last_place():
+    rng = np.random.default_rng(3)
+    z = rng.normal(size=20_000) * np.exp(rng.uniform(-3, 3, 20_000)) + 1j * rng.normal(size=20_000)
+    z = np.concatenate((z, [1, -1, 1j, -1j, complex(-1, 0.0), complex(-1, -0.0), complex(-2, 1e-300), 0j]))
+    onepass._passer()
+    got = np.array([onepass._angle(w) for w in z])
+    want = np.angle(z)
+    assert np.all(np.abs(got - want) <= 2 * np.spacing(np.abs(want) + np.pi / 4))
+
+
+def test_grid_points_are_the_grid():
+    for start, stop, step in ((0.0, 1.0, 0.25), (0.3, -2.0, 0.07), (1.0, 1.0, 0.5), (0.0, 2 * math.pi, math.pi / 1800)):
+        assert grid_points(start, stop, step).tolist() == grid(start, stop, step)

@@ -9,7 +9,8 @@ places each step's links for every configuration, with no temporary arrays
 (a batch's chunk is then finished and reduced by two more). The tape is built
 once per program (:class:`Tape`); the compiled loop is the same for every
 mechanism, so it is compiled once per machine (numba's on-disk cache) and
-never per mechanism.
+never per mechanism. A sweep goes on in one more compiled pass
+(:mod:`~domes.motion.planar.onepass`: angles, rates, outputs).
 
 The numpy route stays the reference: both give the same numbers to
 rounding (``tests/motion/test_compiled.py``). :func:`choose` says which route

@@ -200,13 +200,22 @@ def grid_size(start: float, stop: float, step: float) -> int:
 
 def grid(start: float, stop: float, step: float) -> list[float]:
     """``start, start ± step, ..., stop`` (the last point is ``stop`` when within 1e-9 of a step)."""
+    return grid_points(start, stop, step).tolist()
+
+
+def grid_points(start: float, stop: float, step: float) -> np.ndarray:
+    """:func:`grid` as an array.
+
+    >>> grid_points(0.0, 1.0, 0.4).tolist()
+    [0.0, 0.4, 0.8, 1.0]
+    """
     grid_size(start, stop, step)
     n = (stop - start) / step
     count = int(math.floor(abs(n) + 1e-9))
     sign = 1.0 if stop >= start else -1.0
-    pts = (start + sign * np.arange(count + 1) * step).tolist()  # as start + sign·k·step, in one pass
-    if abs(pts[-1] - stop) > 1e-9 * max(1.0, abs(stop)):
-        pts.append(stop)
+    pts = start + sign * np.arange(count + 1) * step  # as start + sign·k·step, in one pass
+    if abs(float(pts[-1]) - stop) > 1e-9 * max(1.0, abs(stop)):
+        pts = np.append(pts, stop)
     return pts
 
 

@@ -39,8 +39,10 @@ import numpy as np
 
 from domes.errors import InputError, NumericalError
 from domes.model.mechanism import Mechanism
+from domes.motion.planar import onepass
 from domes.motion.planar.arrays import Compiled, fine_grid, motion_many, outputs_many
 from domes.motion.planar.branches import Walker
+from domes.motion.planar.compiled import choose
 from domes.motion.planar.continuation import (
     MAX_STEPS,
     Continuation,
@@ -49,6 +51,7 @@ from domes.motion.planar.continuation import (
     Stuck,
     dead_point,
     grid,
+    grid_points,
     grid_size,
 )
 from domes.motion.planar.kernel import blocked, iterated
@@ -215,8 +218,12 @@ def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None, 
         raise InputError(f"a sweep from {cont.fmt(start)} to {cont.fmt(stop)} walks from the drawn pose "
                          f"({cont.fmt(cont.q0)}) in {walked:.3g} steps of the resolution {cont.fmt(cont.h)}, more than "
                          f"{MAX_STEPS:,}: sweep a shorter range, nearer the drawn pose")
-    qs = grid(start, stop, step or cont.h)
-    sw = _scalar_sweep(kin, cont, qs, progress) if blocked(kin) else _vector_sweep(kin, cont, qs, progress)
+    qs = grid_points(start, stop, step or cont.h)
+    if blocked(kin):
+        sw = _scalar_sweep(kin, cont, qs.tolist(), progress)
+    else:  # the compiled route tries the sweep in one pass first; where a decision is due, the numpy walk makes it
+        sw = onepass.sweep(kin, cont, qs, progress) if choose(qs.size) else None
+        sw = sw or _vector_sweep(kin, cont, qs.tolist(), progress)
     return replace(sw, turns=turns) if turns else sw
 
 
@@ -297,9 +304,10 @@ def _refuse(kin, cont, inputs, table, conditions, values, known) -> list[DeadPoi
     return out
 
 
-def _result(kin, cont, qs, inputs, table, residuals, conditions, states, dead, status, passed) -> Sweep:
+def _result(kin, cont, qs, inputs, table, residuals, conditions, states, dead, status, passed, reach=None) -> Sweep:
     dead.sort(key=lambda d: (d.input - qs[0]) * (1 if qs[-1] >= qs[0] else -1))
-    reach = (float(np.min(inputs)), float(np.max(inputs))) if inputs.size else (qs[0], qs[0])
+    if reach is None:
+        reach = (float(np.min(inputs)), float(np.max(inputs))) if inputs.size else (float(qs[0]), float(qs[0]))
     fixed = {j: v for j, v in cont.fixed.items() if j != cont.joint}
     return Sweep(cont.joint, inputs, table, residuals, conditions, tuple(dead), status, reach, len(kin.groups),
                  len(kin.structure.groups), kin.equations, kin.accuracy, tuple(table), cont.angular, fixed, states,
