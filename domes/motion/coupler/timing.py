@@ -198,11 +198,14 @@ def _drivable(mech):
     turns with its coupler (Roberts-Chebyshev: the other three ways of driving a cognate repeat these timings)."""
     A, B, C, D = (complex(*mech.joint(n).at) for n in "ABCD")
     P = complex(*mech.point("P")[1])
-    a, b, c, d = cognates(A, B, C, D, P)[0][:4]
+    ways = [(A, B, C, D), (D, C, B, A)]
+    if B != C:
+        ways.append(tuple(cognates(A, B, C, D, P)[0][:4]))
     out = []
-    for p0, p1, q1, q0 in ((A, B, C, D), (D, C, B, A), (a, b, c, d)):
-        e = (q1 - p1) / abs(q1 - p1)
-        uv = (P - p1) / e
+    for p0, p1, q1, q0 in ways:
+        if not all(np.isfinite(z) for z in (p0, p1, q1, q0)) or min(abs(p1 - p0), abs(q1 - p1), abs(q0 - q1)) <= 0:
+            continue                                        # a degenerate linkage (a link of no length) drives nothing
+        uv = (P - p1) / ((q1 - p1) / abs(q1 - p1))
         out.append(np.array([p0.real, p0.imag, q0.real, q0.imag, abs(p1 - p0), abs(q1 - p1), abs(q0 - q1),
                              uv.real, uv.imag]))
     return out
