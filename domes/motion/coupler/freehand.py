@@ -18,6 +18,10 @@ succeeds within ``tol`` of the sketch's size, by default four times the
 scatter (at least :data:`FLOOR`): a sketch is matched as well as it was
 drawn, not to its tremor.
 
+With a ``timing`` (the crank's angle, or the time, at each point:
+:class:`~domes.motion.coupler.timing.Timing`), the crank angles are fixed by
+it and each fit is measured at it: :mod:`domes.motion.coupler.timing`.
+
 >>> import numpy as np
 >>> t = np.linspace(0, 2 * np.pi, 90, endpoint=False)
 >>> ring = np.c_[np.cos(t), np.sin(t)] + np.random.default_rng(1).normal(0, 0.01, (90, 2))
