@@ -83,6 +83,22 @@ def _census(args, starts, loops, f) -> int:
     print(f"census: {chains:,} chains from {len(starts):,} starts, {seconds:.1f} s of CPU in the walks "
           f"({time.perf_counter() - cpu0:.1f} s on {args.workers} workers)")
     print(f"  the forecast (seed 0): {f.chains() / chains:.3f}x the chains, {f.seconds() / seconds:.3f}x the CPU")
+    by_dof: dict = defaultdict(lambda: [0, 0])
+    for g, w in zip(starts, walks):
+        by_dof[3 * (g[0] - 1) - 2 * len(g[1])][0] += 1
+        by_dof[3 * (g[0] - 1) - 2 * len(g[1])][1] += w[0]
+    print("  starts of each DOF, and their chains: " + ", ".join(
+        f"DOF {d}: {n:,} ({c / chains:.1%})" for d, (n, c) in sorted(by_dof.items())))
+    ranked = sorted((w[0] for w in walks), reverse=True)
+    half = next(i + 1 for i in range(len(ranked)) if sum(ranked[:i + 1]) * 2 >= chains)
+    parts = augment.plan(loops, args.dof, args.workers)[1]
+    sizes = [sum(walks[j][0] for j in range(i, len(starts), parts)) for i in range(parts)]
+    print(f"  half the chains from {half} starts, none from {ranked.count(0):,}; the {parts} parts hold "
+          f"{min(sizes):,} to {max(sizes):,} chains")
+    four = [sum(sizes[i] for i in random.Random(seed).sample(range(parts), 4)) * parts / 4 / chains
+            for seed in range(args.draws)]
+    print(f"  four parts drawn at random (the forecast before strata), {args.draws} draws: {min(four):.2f}x to "
+          f"{max(four):.2f}x the chains")
     keys = [strata.stratum(g) for g in starts]
     ratios = []
     for seed in range(args.draws):
