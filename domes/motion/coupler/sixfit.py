@@ -189,6 +189,11 @@ def sixfit(points, candidate: SixBar, tol: float = 1e-6, max_nfev: int = 400, qu
         x0[i] = max(x0[i], MIN_LINK * 1.01)
     x, fun, nfev = _solve(model, x0, lower, quick or max_nfev, 0.0 if quick else 0.3 * tol)
     a, b, c, d, p, q, e, f, g, h, u, v = (float(t) * size for t in x[:12])
+    if kind == "stephenson" and b < 0:                     # a length's sign is a half turn of its link
+        p, q = -p, -q
+    if e < 0:
+        u, v = -u, -v
+    a, b, c, d, e, f = (abs(t) for t in (a, b, c, d, e, f))
     mech, note, status = None, "", Status.COMPLETE
     if quick:
         after, status = _errors(fun, size), Status.STOPPED

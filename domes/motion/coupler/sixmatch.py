@@ -66,7 +66,8 @@ def match_sixbars(points, atlas: SixAtlas, results: int = 1, tol: float = 1e-6, 
         else:
             kept.append(f)
             merged.append([])
-    return kept, merged, len(quick)
+    shown = max(results, sum(f.success for f in kept))          # every fit, else the nearest ``results``
+    return kept[:shown], merged[:shown], len(quick)
 
 
 def _signature(f: SixFit):
