@@ -205,7 +205,8 @@ class Tape:
             if getattr(prog, "scratch", False):
                 self._scratch = (key, (R, W, S, F, B))
         R[0], W[0] = 1.0, 0.0
-        _kernel()(self.rows, self.anchors, G, U, S0, drawn, fixed, qs, self.inputs.index(joint), sign, R, W, S, F, B)
+        _kernel()(self.rows, self.anchors, G, U, S0, drawn, fixed, qs, self.inputs.index(joint), sign, R, W, S, F, B,
+                  True)
 
         def shaped(a):
             return a.reshape(shape)
@@ -325,7 +326,7 @@ def warm() -> None:
     c, f, one = np.zeros((1, 1), dtype=complex), np.zeros((1, 1)), np.zeros(1, dtype=np.int64)
     _kernel()(np.zeros((0, WIDTH), dtype=np.int64), one, c, c, f, f, f, np.zeros(0), 0, f,
               np.zeros((1, 1, 0), dtype=complex), np.zeros((1, 1, 0), dtype=complex), np.zeros((0, 1, 0)),
-              np.zeros((3, 0, 1, 0)), np.zeros((2, 0, 1, 0), dtype=np.bool_))
+              np.zeros((3, 0, 1, 0)), np.zeros((2, 0, 1, 0), dtype=np.bool_), True)
     _finisher()(np.zeros((0, 3), dtype=np.int64), one, c, np.zeros((1, 0, 0), dtype=complex),
                 np.zeros((1, 0, 0), dtype=complex), np.zeros((0, 0, 0)), np.zeros((3, 0, 0, 0)),
                 np.zeros((2, 0, 0, 0), dtype=np.bool_), np.zeros(0, dtype=np.bool_), np.zeros(0, dtype=np.bool_),
@@ -404,13 +405,14 @@ def _finish(spec, anchors, G, R, W, S, F, B, signed, ambiguous, size, out, ok, k
         residual[m] = closure / size[m]
 
 
-def run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B):
-    """Fill ``R, W`` (link rotations and anchors' places), ``S`` (slides), ``F`` (the dyads' roots, margins and
-    closures) and ``B`` (their unassembled and undetermined masks) for every mechanism and input (compiled)."""
-    _kernel()(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B)
+def run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, closures=True):
+    """Fill ``R, W`` (link rotations and anchors' places), ``S`` (slides), ``F`` (the dyads' roots, margins and,
+    with ``closures``, closures) and ``B`` (their unassembled and undetermined masks) for every mechanism and input
+    (compiled)."""
+    _kernel()(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, closures)
 
 
-def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B):  # pragma: no cover - compiled
+def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, closures):  # pragma: no cover - compiled
     slack = 1e-14 * 64
     n = qs.size
     turns = np.empty(n, dtype=np.complex128)
@@ -477,7 +479,8 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B):
                     u2 = z2 * (1.0 / np.sqrt(z2.real * z2.real + z2.imag * z2.imag))
                     R1[i], W1[i], R2[i], W2[i] = u1, A, u2, C
                     e = C + u2 * bc - Bp
-                    closure[i] = np.sqrt(e.real * e.real + e.imag * e.imag)
+                    if closures:
+                        closure[i] = np.sqrt(e.real * e.real + e.imag * e.imag)
             elif op == RPR:
                 s = rows[r, 9]
                 first = rows[r, 10] > 0
@@ -504,7 +507,8 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B):
                     S[s, m, i] = S0[m, s] + t - t0
                     R1[i], W1[i], R2[i], W2[i] = Rr, A, Rr, C
                     slid = Gp + Rr * (b - gp) + (t - t0) * Rr * u0
-                    closure[i] = abs(Sp + Rr * (b - sp) - slid)
+                    if closures:
+                        closure[i] = abs(Sp + Rr * (b - sp) - slid)
             elif op == RRP:
                 s = rows[r, 9]
                 l1n = abs(b - a)
@@ -528,7 +532,8 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B):
                     u1 = _scaled(z1, abs(z1))
                     S[s, m, i] = S0[m, s] + rows[r, 11] * tau
                     R1[i], W1[i], R2[i], W2[i] = u1, A, Rk, C + tau * u
-                    closure[i] = abs(A + u1 * (b - a) - Bp)
+                    if closures:
+                        closure[i] = abs(A + u1 * (b - a) - Bp)
             elif op == PRP:
                 sa, sc = rows[r, 9], rows[r, 10]
                 for i in range(n):
@@ -545,7 +550,8 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B):
                     S[sa, m, i] = S0[m, sa] + rows[r, 11] * t1
                     S[sc, m, i] = S0[m, sc] + rows[r, 12] * t2
                     R1[i], W1[i], R2[i], W2[i] = Ra[i], A + t1 * u1, Rc[i], C + t2 * u2
-                    closure[i] = abs(p1 + t1 * u1 - p2 - t2 * u2)
+                    if closures:
+                        closure[i] = abs(p1 + t1 * u1 - p2 - t2 * u2)
                     root[i], margin[i], bad[i], und[i] = np.nan, np.nan, False, flat
             else:  # RPP
                 sb, sc = rows[r, 9], rows[r, 10]
@@ -564,5 +570,6 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B):
                     S[sb, m, i] = S0[m, sb] + rows[r, 11] * t_in
                     S[sc, m, i] = S0[m, sc] + rows[r, 12] * t_out
                     R1[i], W1[i], R2[i], W2[i] = Rk, A, Rk, C + t_out * u_out
-                    closure[i] = abs(X1 + t_in * u_in - (C + Rk * (b - c) + t_out * u_out))
+                    if closures:
+                        closure[i] = abs(X1 + t_in * u_in - (C + Rk * (b - c) + t_out * u_out))
                     root[i], margin[i], bad[i], und[i] = np.nan, np.nan, False, flat

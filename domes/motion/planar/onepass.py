@@ -240,7 +240,7 @@ def sweep(kin, cont, qs, progress=None):
     R, W, S, F, B = work[:5]
     tape = prog.tape
     compiled.run(tape.rows, tape.anchors, prog.G, prog.U, prog.S0, prog.drawn, prog.fixed, xs, prog.k_swept,
-                 prog.sign, R, W, S, F, B)
+                 prog.sign, R, W, S, F, B, closures=False)  # a sweep reads no closure
     X = np.empty((len(prog.names), n))
     out = np.empty((len(prog.columns), nk))
     rc = np.empty((2, nk))
