@@ -8,7 +8,8 @@ Runge-Kutta predictor on ``dz/dt = −J⁻¹ ∂F/∂p dp/dt``, two Newton corre
 correction (the predictor's error) is within :data:`TRACK_TOL` of the size and the second contracts (or is
 at round-off, :data:`ROUNDOFF`); the next
 step aims the predictor's error (of order ``h⁵``) at half the tolerance, between half and twice the last step. A path whose coordinates pass :data:`DIVERGED` goes to infinity; one whose
-step falls below ``hmin`` fails. :func:`refine` polishes the end points by Newton. :func:`monodromy` fills a
+step falls below ``hmin`` fails. :class:`Projective` puts a system on a random projective chart, where a path
+passing near infinity stays bounded. :func:`refine` polishes the end points by Newton. :func:`monodromy` fills a
 solution set from one solution by loops in parameter space.
 
 >>> import numpy as np
@@ -110,6 +111,66 @@ def track(system, z0, p0, p1, gamma: complex = 1.0, h0: float = 0.02, hmax: floa
         status[i[(norm(z[i]) > DIVERGED) | ~np.isfinite(norm(z[i]))]] = INFINITE
     status[status == RUNNING] = FAILED
     return Tracked(z, status, steps, t)
+
+
+class Projective:
+    """``system`` on a random affine chart of projective space: unknowns ``W = (Z, w)``, ``z = Z / w``, the
+    equations ``w^d F(z)`` (``d``: each one's degree, ``system.degrees``) and the chart ``c · W = 1``, ``c``
+    random. A path that passes near infinity in ``z`` stays bounded in ``W`` (Sommese & Wampler 2005, §3.7); the
+    Newton step is a dense ``(m + 1)``-square solve, for the few paths the affine tracker loses.
+
+    >>> import numpy as np
+    >>> from domes.design.synthesis.isotropic import DyadSystem, plant
+    >>> sys = DyadSystem(4, pivots_given=True)
+    >>> z, p = plant(sys, np.random.default_rng(0))
+    >>> ps = Projective(sys, np.random.default_rng(1))
+    >>> W = ps.lift(z)
+    >>> float(np.abs(ps.residual(W, p)).max()) < 1e-12, bool(np.allclose(ps.drop(W), z))
+    (True, True)
+    """
+
+    def __init__(self, system, rng):
+        self.system = system
+        self.q = system.q
+        self.m = system.m + 1
+        self.degrees = np.asarray(system.degrees, float)
+        c = rng.normal(size=self.m) + 1j * rng.normal(size=self.m)
+        self.c = c / np.linalg.norm(c)
+
+    def lift(self, z):
+        """The points ``z`` (N, m − 1) on the chart."""
+        W = np.concatenate([z, np.ones((len(z), 1))], axis=1)
+        return W / (W @ self.c)[:, None]
+
+    def drop(self, W):
+        """The affine points ``Z / w``."""
+        with np.errstate(all="ignore"):
+            return W[:, :-1] / W[:, -1:]
+
+    def residual(self, W, p):
+        w = W[:, -1:]
+        F = self.system.residual(W[:, :-1] / w, p) * w ** self.degrees
+        return np.concatenate([F, (W @ self.c)[:, None] - 1], axis=1)
+
+    def jacobian(self, W, p):
+        """``∂/∂Z = w^(d−1) ∂F/∂z``; ``∂/∂w = w^(d−1) (d F − ∂F/∂z · z)`` (Euler); the chart's row ``c``."""
+        w = W[:, -1:]
+        z = W[:, :-1] / w
+        F, J = self.system.residual(z, p), self.system.jacobian(z, p)
+        s = w ** (self.degrees - 1)
+        H = np.empty((len(W), self.m, self.m), complex)
+        H[:, :-1, :-1] = J * s[:, :, None]
+        H[:, :-1, -1] = s * (self.degrees * F - np.einsum("nrk,nk->nr", J, z))
+        H[:, -1, :] = self.c
+        return H
+
+    def solve(self, W, p, rhs):
+        return np.linalg.solve(self.jacobian(W, p), rhs[..., None])[..., 0]
+
+    def param_rate(self, W, p, dp):
+        w = W[:, -1:]
+        rate = self.system.param_rate(W[:, :-1] / w, p, dp) * w ** self.degrees
+        return np.concatenate([rate, np.zeros((len(W), 1))], axis=1)
 
 
 def refine(system, z, p, iterations: int = 8, extended: bool = False):

@@ -54,6 +54,8 @@ class DyadSystem:
             raise ValueError(f"{n} displacements with {'given' if pivots_given else 'free'} pivots is not square")
         self.m = self.nu + 2 * n
         self.q = 2 * n + (4 if pivots_given else 0)
+        #: Each equation's degree in the unknowns (``θ x ā`` is of degree 3; 2 when the pivots are given).
+        self.degrees = np.array([2 if pivots_given else 3] * (2 * n) + [2] * n)
 
     def linkage(self, z, p):
         """The eight isotropic coordinates ``x, x̄, a, ā, y, ȳ, b, b̄`` as columns ``(N, 1)``."""
