@@ -42,9 +42,19 @@ def stratum(graph: augment.Graph) -> tuple:
     (2, (2, 2, 2, 2, 2), 0)
     """
     n, edges = graph
-    parent = augment._Parent(graph)
-    longest = max((len(br[2]) for br, free in zip(parent.branches, parent.free) if free), default=0)
-    return 3 * (n - 1) - 2 * len(edges), tuple(sorted(parent.deg, reverse=True)), longest
+    adjm = [0] * n
+    for a, b in edges:
+        adjm[a] |= 1 << b
+        adjm[b] |= 1 << a
+    deg = [m.bit_count() for m in adjm]
+    longest = 0
+    if max(deg) > 2:
+        full = (1 << n) - 1
+        for br in sorted(augment._branches(n, adjm, deg), key=lambda br: len(br[2]), reverse=True):
+            if augment._removable(adjm, full, br):
+                longest = len(br[2])
+                break
+    return 3 * (n - 1) - 2 * len(edges), tuple(sorted(deg, reverse=True)), longest
 
 
 @dataclass
