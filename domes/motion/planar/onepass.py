@@ -234,7 +234,7 @@ def sweep(kin, cont, qs, progress=None):
     if prog is None:
         return None
     qs = np.asarray(qs, dtype=float)
-    xs, keep, lead, count = _walker()(qs, cont.q0, cont.h)
+    xs, keep, lead, count = _walk_points(qs, cont.q0, cont.h)
     n, nk = xs.size, keep.size
     work = prog.borrow(n, nk)
     R, W, S, F, B = work[:5]
@@ -302,45 +302,37 @@ def _fine_grid(qs, q_from, h):  # pragma: no cover - compiled
     return pts, marks
 
 
-def _walk_points(qs, q0, h):  # pragma: no cover - compiled
+def _beyond(pts, qa, h) -> list:
+    """The walk's point one step beyond the last of ``pts`` (walked from ``qa``), as
+    :meth:`~domes.motion.planar.branches.Walker.walk` probes it, or none."""
+    if not pts.size:
+        return []
+    prev = pts[-2] if pts.size > 1 else qa
+    spacing = min(abs(pts[-1] - prev), h)
+    return [pts[-1] + math.copysign(spacing, pts[-1] - prev)] if spacing > 0 else []
+
+
+def _walk_points(qs, q0, h):
     """The points a sweep walks: the drawn input ``q0``, the walk from it to ``qs[0]`` and one step beyond, then the
     grid ``qs`` walked in pieces no longer than ``h`` and one step beyond (as ``sweep._reach`` and
     :meth:`~domes.motion.planar.branches.Walker.walk` take them). Returns the points, the indices of the grid's
     points among them, where the walked grid begins and how many points it has."""
-    reach, _ = _fine_grid(qs[:1], q0, h)
-    pts, marks = _fine_grid(qs, qs[0], h)
-    parts = (reach, pts)
-    beyond = np.empty(2)
-    has = np.zeros(2, dtype=np.bool_)
-    for j in range(2):
-        p, qa = parts[j], (q0 if j == 0 else qs[0])
-        if p.size:
-            prev = p[-2] if p.size > 1 else qa
-            spacing = min(abs(p[-1] - prev), h)
-            if spacing > 0:
-                has[j] = True
-                beyond[j] = p[-1] + math.copysign(spacing, p[-1] - prev)
-    lead = 1 + reach.size + (1 if has[0] else 0)
-    xs = np.empty(lead + pts.size + (1 if has[1] else 0))
-    xs[0] = q0
-    xs[1:1 + reach.size] = reach
-    if has[0]:
-        xs[lead - 1] = beyond[0]
-    xs[lead:lead + pts.size] = pts
-    if has[1]:
-        xs[-1] = beyond[1]
-    return xs, marks + lead, lead, pts.size
+    fine = _finer()
+    reach, _ = fine(qs[:1], q0, h)
+    pts, marks = fine(qs, qs[0], h)
+    lead = [q0, *reach.tolist(), *_beyond(reach, q0, h)]
+    xs = np.concatenate((lead, pts, _beyond(pts, qs[0], h)))
+    return xs, marks + len(lead), len(lead), pts.size
 
 
-_WALK = None
+_FINE = None
 
 
-def _walker():
-    global _WALK, _fine_grid
-    if _WALK is None:
-        _fine_grid = compiled._jit(_fine_grid)
-        _WALK = compiled._jit(_walk_points)
-    return _WALK
+def _finer():
+    global _FINE
+    if _FINE is None:
+        _FINE = compiled._jit(_fine_grid)
+    return _FINE
 
 
 _PASS = None
@@ -393,7 +385,7 @@ def _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, rates, g
         a1[k] = 0.0
     for v in range(seen.size):
         seen[v] = False
-    met = 0
+    met = np.int64(0)
     for t in range(lo, hi):
         e, sv = seg_i[t, 1], seg_i[t, 2]
         u = units[t]
@@ -516,6 +508,7 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
     # on the kept configurations, a block at a time (its rows stay in cache): each dyad's loop for residual,
     # condition, rates and accelerations; then the outputs
     nk, width = keep.size, x.shape[1]
+    on, off = order >= 0, order < 0  # flags as values, not constants: one compiled _loop for every call
     a0, a1, dd, gc = rows[0], rows[1], rows[2], rows[3]
     worst = 1.0
     for blk in range(0, nk, width):
@@ -543,7 +536,7 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
             conditions[blk + j] = 1.0
         for g in range(groups.shape[0]):
             lo, hi, u0, u1 = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
-            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, False, True, a0, a1, cx, cy,
+            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, off, on, a0, a1, cx, cy,
                         dcx, dcy, seen, seq, dd)
             if not (seen[u0] and seen[u1]):
                 return 3, 0.0
@@ -574,7 +567,7 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
                 xd[u1, j] = (j00 * r1 - j10 * r0) / det if ok else math.nan
             if order < 2:
                 continue
-            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, True, True, a0, a1, cx, cy, dcx,
+            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, on, on, a0, a1, cx, cy, dcx,
                         dcy, seen, seq, dd)
             for j in range(nb):
                 j00, j01, j10, j11 = cx[u0, j], cx[u1, j], cy[u0, j], cy[u1, j]
