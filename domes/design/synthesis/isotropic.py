@@ -148,14 +148,15 @@ class DyadSystem:
         """``∂F/∂p · dp`` (N, m)."""
         (x, xb, a, ab, y, yb, b, bb), th, thb, d, db = self._split(z, p)
         n = self.n
-        L = dyad_partials(x, xb, a, ab, th, thb, d, db)
-        R = dyad_partials(y, yb, b, bb, th, thb, d, db)
         dd, ddb = dp[:, :n], dp[:, n:2 * n]
-        fl, fr = L[6] * dd + L[7] * ddb, R[6] * dd + R[7] * ddb
+        # the partials of dyad_partials this needs (∂δ, ∂δ̄, and ∂a, ∂ā when the pivots are parameters), alone
+        tx, tbx, ty, tby = th * x, thb * xb, th * y, thb * yb
+        fl = (tbx + db - ab) * dd + (tx + d - a) * ddb
+        fr = (tby + db - bb) * dd + (ty + d - b) * ddb
         if self.pivots_given:
             da, dab, dbp, dbb = (dp[:, 2 * n + k:2 * n + k + 1] for k in range(4))
-            fl = fl + L[2] * da + L[3] * dab
-            fr = fr + R[2] * dbp + R[3] * dbb
+            fl = fl + (xb - tbx - db) * da + (x - tx - d) * dab
+            fr = fr + (yb - tby - db) * dbp + (y - ty - d) * dbb
         return np.concatenate([fl, fr, np.zeros_like(fl)], axis=1)
 
 

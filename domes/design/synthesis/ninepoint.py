@@ -51,7 +51,7 @@ RESIDUAL = 1e-8
 POLISH = 1e-10
 #: The affine first pass's predictor tolerance (relative to ``1 + |z|``): looser than the retries' (a path that
 #: jumps ends on another's class and is tracked again).
-FIRST_TOL = 1e-4
+FIRST_TOL = 3e-4
 #: A solution is real when its coordinates equal the conjugates of their partners within this (relative).
 REAL = 1e-7
 
