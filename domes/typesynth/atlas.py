@@ -802,10 +802,11 @@ def augment_forecast(links: int, dof: int, workers: int = 1, sample: int = FOREC
     (True, True)
     """
     loops = chain_joints(links, dof) - links + 1
+    clock = Ticker(progress, every=1.0)
+    clock.tick(lambda: f"forecast of {links} links: the starts of the walks and their strata", force=True)
     start = time.process_time()
     starts, parts = augment.plan(loops, dof, workers)
     planned = time.process_time() - start
-    clock = Ticker(progress, every=1.0)
     found = strata.sample(starts, loops, dof, sample, seed,
                           progress=lambda text: clock.tick(lambda: f"forecast of {links} links: {text}"))
     count, work = found.chains(), found.seconds()

@@ -8,8 +8,10 @@ half, 14,885 to none; and a start with a long removable branch leads to few
 *strata* by what is seen at once (:func:`stratum`: their DOF, the degrees of
 their links, the length of their longest removable branch); one start of
 each stratum is walked (the pilot), then the rest of the budget goes to the
-strata in proportion to their size times the square root of the pilot's CPU
-time per start (Neyman's allocation with a cost that grows as the spread).
+strata in proportion to their size times the square root of one more than
+the pilot's chains (Neyman's allocation with a spread and a cost that grow
+with the chains; counts, not CPU times, so that a seed draws the same
+sample on any machine).
 Each stratum's mean chains and CPU time per start, times its starts, is its
 share; a part (or any set of starts) is forecast the same way.
 
@@ -31,7 +33,7 @@ from dataclasses import dataclass, field
 from domes.typesynth import augment
 
 #: Starts walked by a forecast (the pilot's one a stratum included): at 14 links, DOF 1, a tenth of the work, and
-#: the count within 20% in each of 300 draws from a census of every start (docs/scale.md).
+#: the count within 27% in each of 300 draws from a census of every start (docs/scale.md).
 BUDGET = 300
 
 
@@ -118,8 +120,8 @@ def walk_starts(task: tuple) -> list[tuple[int, float]]:
 def sample(starts: list, loops: int, dof: int, budget: int = BUDGET, seed: int = 0, walk=None,
            progress=None, strata: list | None = None) -> Sample:
     """Walk a stratified sample of about ``budget`` of ``starts`` (to chains of ``loops`` loops, DOF ``dof``):
-    one start of each stratum, then the rest of the budget shared by size times the square root of the pilot's
-    CPU time per start. ``walk(i)`` gives ``(chains, CPU seconds)`` of start ``i`` (by default it is walked
+    one start of each stratum, then the rest of the budget shared by size times the square root of one more
+    than the pilot's chains. ``walk(i)`` gives ``(chains, CPU seconds)`` of start ``i`` (by default it is walked
     here); ``progress(text)``, if given, is called after each start walked; ``strata``, the starts' strata if
     known."""
     if walk is None:
@@ -145,7 +147,7 @@ def sample(starts: list, loops: int, dof: int, budget: int = BUDGET, seed: int =
         run(key, 1)
     left = total - result.walked
     if left > 0:
-        weight = {key: len(members[key]) * math.sqrt(result._mean(key, 1)) for key in order}
+        weight = {key: len(members[key]) * math.sqrt(result._mean(key, 0) + 1) for key in order}
         whole = sum(weight.values())
         if whole > 0:
             for key in order:
