@@ -232,6 +232,23 @@ def test_one_pass_equals_numpy_on_every_dyad_kind(monkeypatch):
         assert _taken(Kinematics(m, None, 2), q0, q0 + 2 * math.pi, math.pi / 180), name
 
 
+def test_one_query_swept_again_keeps_its_walk_apart(monkeypatch):
+    # one query swept over a grid, another grid, then the first again: the walk's points kept on the query are the
+    # grid's own, and a sweep's inputs are its own (writing one does not move the next)
+    m = example("four-bar.json")
+    q0 = Kinematics(m).drawn_inputs()[m.inputs[0].joint]
+    monkeypatch.setenv(compiled.VARIABLE, "numba")
+    kin = Kinematics(m, None, 2)
+    first = run_sweep(kin, q0, q0 + 1.0, 1 / 50)
+    first.inputs[:] = np.nan
+    other = run_sweep(kin, q0 - 0.5, q0 + 0.5, 1 / 40)
+    again = run_sweep(kin, q0, q0 + 1.0, 1 / 50)
+    for got, (lo, hi, step) in ((other, (-0.5, 0.5, 1 / 40)), (again, (0.0, 1.0, 1 / 50))):
+        monkeypatch.setenv(compiled.VARIABLE, "numpy")
+        _same_sweeps(got, run_sweep(Kinematics(m, None, 2), q0 + lo, q0 + hi, step), m, (lo, hi))
+        monkeypatch.setenv(compiled.VARIABLE, "numba")
+
+
 def test_decisions_are_left_to_the_numpy_walk(monkeypatch):
     # a limit (the triple rocker) and branch points (the parallelogram's, twice a turn): the one pass declines,
     # and the compiled route reports them as the numpy route does

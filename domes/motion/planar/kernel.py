@@ -78,6 +78,9 @@ def blocked(kin) -> list[str]:
     >>> blocked(Kinematics(four_bar(), method="newton"))
     ['3-link group {crank, coupler, rocker}']
     """
+    cached = kin.__dict__.get("_blocked")  # a query does not change: asked once per sweep, found once
+    if cached is not None:
+        return list(cached)
     s = kin.structure
     driven = set(s.input_vars)
     whole = []
@@ -87,7 +90,9 @@ def blocked(kin) -> list[str]:
         outer = any(jn in driven and not set(kin.mech.joint(jn).links) <= set(g.links) for jn in g.joints)
         if outer or s.derived_of(g):
             whole.append(g.label)
-    return whole + [label for label in _compile(kin)[2] if label not in whole]
+    whole += [label for label in _compile(kin)[2] if label not in whole]
+    kin.__dict__["_blocked"] = tuple(whole)
+    return whole
 
 
 def _newton_group(kin, g) -> bool:

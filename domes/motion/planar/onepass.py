@@ -153,6 +153,7 @@ class Pass:
         self.start = np.array([start.get(v, 0.0) for v in self.names], dtype=float)
         self._placements(fixed)
         self._spare: list = []
+        self._walk = None
 
     def _placements(self, fixed):
         """The constant tables of :func:`~domes.motion.planar.compiled.run` (one mechanism), as ``Tape.poses``."""
@@ -200,6 +201,16 @@ class Pass:
         if work[0].shape[2] <= SPARE:
             self._spare[:] = [((work[0].shape[2], work[5].shape[1]), work)]
 
+    def walk_points(self, qs, q0, h) -> tuple:
+        """:func:`_walk_points`, kept for the next sweep of the same grid (the pass only reads them; a sweep's
+        inputs are copied out)."""
+        last = self._walk
+        if last is not None and last[0] == (q0, h) and np.array_equal(last[1], qs):
+            return last[2]
+        points = _walk_points(qs, q0, h)
+        self._walk = ((q0, h), qs.copy(), points)
+        return points
+
     @classmethod
     def of(cls, kin, joint, fixed) -> "Pass | None":
         """The query's program for sweeping ``joint`` (other inputs at ``fixed``), made once and kept on the query;
@@ -234,7 +245,7 @@ def sweep(kin, cont, qs, progress=None):
     if prog is None:
         return None
     qs = np.asarray(qs, dtype=float)
-    xs, keep, lead, count = _walk_points(qs, cont.q0, cont.h)
+    xs, keep, lead, count = prog.walk_points(qs, cont.q0, cont.h)
     n, nk = xs.size, keep.size
     work = prog.borrow(n, nk)
     R, W, S, F, B = work[:5]
@@ -257,7 +268,7 @@ def sweep(kin, cont, qs, progress=None):
         Ticker(progress).tick(lambda: f"step {count}/{count}: input {cont.fmt(pts[-1])}", force=True)
     if nk == count:  # every walked point is a grid point: the states are views
         X = X[:, lead:lead + nk]
-        inputs = pts
+        inputs = pts.copy()  # the walk's points are kept for the next sweep
     else:
         X = X[:, keep]
         inputs = xs[keep]
@@ -516,6 +527,9 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
         for v in range(nv):
             for j in range(nb):
                 x[v, j] = X[v, keep[blk + j]]
+            if order == 0:  # no rates read
+                continue
+            for j in range(nb):
                 xd[v, j] = rates0[v]
                 xdd[v, j] = accels0[v]
         for t in range(seg_i.shape[0]):
