@@ -53,7 +53,7 @@ import numpy as np
 
 from domes.errors import InputError
 from domes.model.mechanism import Mechanism
-from domes.motion.planar import compiled
+from domes.motion.planar import compiled, reduce
 from domes.motion.planar.kernel import Program
 from domes.motion.planar.query import Kinematics
 from domes.results import Progress, Result, Status, Ticker
@@ -70,6 +70,9 @@ CHUNK = (1 << 14) - 1
 #: The same for the compiled route (:mod:`~domes.motion.planar.compiled`): one loop per chunk, no temporaries,
 #: so larger chunks only spread the fixed cost of a chunk further (values are the same whatever the chunking).
 COMPILED_CHUNK = 1 << 17
+#: The same for a compiled reduction to extremes (:mod:`~domes.motion.planar.reduce`): no array of the chunk's
+#: configurations at all, so a chunk only bounds the geometry tables and the time between progress reports.
+REDUCE_CHUNK = 1 << 20
 #: The kinds of status, in the order they are reported.
 KINDS = ("complete", "limit", "undetermined", "ambiguous")
 
@@ -213,12 +216,11 @@ class ExtremesSink:
     """Reduce each chunk to per-mechanism extremes (:class:`Extremes`): ``O(M)`` memory, not ``O(M·N)``."""
 
     def start(self, plan: Plan) -> None:
-        m = plan.count
+        m, k = plan.count, len(plan.columns)
         self.plan = plan
-        self.minimum = {c: np.full(m, np.nan) for c in plan.columns}
-        self.maximum = {c: np.full(m, np.nan) for c in plan.columns}
-        self.argmin = {c: np.full(m, -1, dtype=np.int64) for c in plan.columns}
-        self.argmax = {c: np.full(m, -1, dtype=np.int64) for c in plan.columns}
+        self.table = (np.full((k, m), np.nan), np.full((k, m), np.nan), np.full((k, m), -1, dtype=np.int64),
+                      np.full((k, m), -1, dtype=np.int64))  # one row per column: the fused loop fills them at once
+        self.minimum, self.maximum, self.argmin, self.argmax = (dict(zip(plan.columns, t)) for t in self.table)
         self.kinds = np.empty(m, dtype=f"U{max(map(len, KINDS))}")
         self.transmission = np.full(m, np.nan)
         self.residual = np.zeros(m)
@@ -323,7 +325,10 @@ def batch(mech: Mechanism, coordinates=None, inputs=None, outputs=None, order: i
     prog.scratch = True  # each chunk's poses are used up before the next chunk: the compiled route reuses its arrays
     if fast:
         compiled.warm()  # numba's import and cache load, before the probe measures a chunk's memory
-    cap = COMPILED_CHUNK if fast else CHUNK
+    table = reduce.spec(prog) if fast and type(sink) is ExtremesSink else None
+    if table is not None:
+        reduce.warm()
+    cap = REDUCE_CHUNK if table is not None else COMPILED_CHUNK if fast else CHUNK
     columns = tuple(name + "'" * k for o in kin.outputs for k in range(order + 1) for name in o.columns())
     plan = Plan(mech.name, joint, qs, total, columns)
     collect = sink is None
@@ -333,7 +338,18 @@ def batch(mech: Mechanism, coordinates=None, inputs=None, outputs=None, order: i
     counts = dict.fromkeys(KINDS, 0)
     worst = [0.0]
 
+    codes = np.zeros(total if table is not None else 0, dtype=np.int64)
+
     def step(g, lo, hi):
+        if table is not None:  # placed and reduced in one compiled loop: no chunk of positions
+            ambiguous = _ambiguous(g, hi - lo)
+            reduce.extremes(prog, table, g, qs, joint, ambiguous, size[lo:hi], lo, *sink.table, codes,
+                            sink.transmission, sink.residual)
+            for k, m in enumerate(np.bincount(codes[lo:hi], minlength=len(KINDS)).tolist()):
+                counts[KINDS[k]] += m
+            sink.kinds[lo:hi] = np.array(KINDS)[codes[lo:hi]]
+            worst[0] = max(worst[0], float(np.nanmax(sink.residual[lo:hi])))
+            return
         c = _evaluate(prog, g, qs, joint, order, size[lo:hi], lo, hi)
         names, k = np.unique(c.kinds, return_counts=True)
         for name, m in zip(names.tolist(), k.tolist()):
@@ -389,9 +405,7 @@ def _evaluate(prog, g, qs, joint, order, size, lo, hi) -> Chunk:
     n = qs.size
     pose = prog.poses(g, qs[None, :], joint)
     shape = (hi - lo, n)
-    ambiguous = np.zeros(hi - lo, dtype=bool)
-    for sign in g.sign.values():
-        ambiguous |= np.broadcast_to(np.asarray(sign) == 0, (hi - lo, 1))[:, 0]
+    ambiguous = _ambiguous(g, hi - lo)
     done = None if order or getattr(pose, "raw", None) is None else \
         compiled.Tape.of(prog).finish(pose, prog.kin.outputs, ambiguous, size)
     if done is not None:
@@ -421,6 +435,14 @@ def _evaluate(prog, g, qs, joint, order, size, lo, hi) -> Chunk:
         for col, val in prog.outputs(g, pose, levels).items():
             values[col] = np.where(ok, val, np.nan)
     return Chunk(lo, hi, values, ok, kinds, transmission, residual)
+
+
+def _ambiguous(g, rows) -> np.ndarray:
+    """Which of the ``rows`` mechanisms of geometry ``g`` are drawn on a dead point (a dyad's sign is 0)."""
+    ambiguous = np.zeros(rows, dtype=bool)
+    for sign in g.sign.values():
+        ambiguous |= np.broadcast_to(np.asarray(sign) == 0, (rows, 1))[:, 0]
+    return ambiguous
 
 
 def _sizes(geom, total) -> np.ndarray:
