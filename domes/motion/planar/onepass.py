@@ -372,28 +372,35 @@ def _angle(z):  # pragma: no cover - compiled
     return -math.atan(x / y) + (math.pi / 2 if y > 0 else -math.pi / 2)
 
 
-def _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy):  # pragma: no cover - compiled
-    """Start the rows (``nb`` long) of variable ``v`` at zero when it is first met; the count of variables met."""
+def _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy, again):  # pragma: no cover - compiled
+    """Start the rows (``nb`` long) of variable ``v`` at zero when it is first met (``again``: only the rows of the
+    time derivative); the count of variables met."""
     if seen[v]:
         return met
     seen[v] = True
     seq[met] = v
     for k in range(nb):
-        cx[v, k] = cy[v, k] = dcx[v, k] = dcy[v, k] = 0.0
+        dcx[v, k] = dcy[v, k] = 0.0
+    if not again:
+        for k in range(nb):
+            cx[v, k] = cy[v, k] = 0.0
     return met + 1
 
 
-def _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, rates, grad, a0, a1, cx, cy, dcx, dcy, seen, seq,
-          dd):  # pragma: no cover - compiled
+def _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, rates, grad, again, a0, a1, cx, cy, dcx, dcy,
+          seen, seq, dd):  # pragma: no cover - compiled
     """The segment sum of :func:`~domes.motion.planar.structure.evaluate` over every configuration (``units[t]``
     segment ``t``'s ``u(Δ + α)``; rates ``xd`` when ``rates``): ``A`` into ``a0, a1``; with ``grad`` ``∂A/∂v`` into
     rows of ``cx, cy`` and (with ``rates``) its time derivative into ``dcx, dcy``, the variables in the order first
     met (``seq``: the order of ``evaluate``'s dicts, so sums over them round alike). Returns how many were met.
-    Columns ``0 .. nb - 1`` are the configurations of the block."""
+    ``again`` (with ``rates``) fills only ``dcx, dcy``: ``A`` and ``∂A/∂v`` are those of the last call on the same
+    segments. Columns ``0 .. nb - 1`` are the configurations of the block."""
     nk = nb
-    for k in range(nk):
-        a0[k] = 0.0
-        a1[k] = 0.0
+    sums = not again
+    if sums:
+        for k in range(nk):
+            a0[k] = 0.0
+            a1[k] = 0.0
     for v in range(seen.size):
         seen[v] = False
     met = np.int64(0)
@@ -409,49 +416,61 @@ def _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, rates, g
                     dd[k] += c * xd[v, k]
         if seg_i[t, 0] == 0:
             ln = seg_f[t, 0]
-            for k in range(nk):
-                a0[k] += ln * u[k].real
-                a1[k] += ln * u[k].imag
+            if sums:
+                for k in range(nk):
+                    a0[k] += ln * u[k].real
+                    a1[k] += ln * u[k].imag
             if not grad:
                 continue
             for p in range(ex_ptr[e], ex_ptr[e + 1]):
                 c, v = ex_c[p], ex_var[p]
-                met = _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy)
-                for k in range(nk):
-                    cs, sn = u[k].real, u[k].imag
-                    cx[v, k] += c * (-ln * sn)
-                    cy[v, k] += c * (ln * cs)
-                    if rates:
+                met = _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy, again)
+                if sums:
+                    for k in range(nk):
+                        cs, sn = u[k].real, u[k].imag
+                        cx[v, k] += c * (-ln * sn)
+                        cy[v, k] += c * (ln * cs)
+                if rates:
+                    for k in range(nk):
+                        cs, sn = u[k].real, u[k].imag
                         dcx[v, k] += c * (-ln * dd[k] * cs)
                         dcy[v, k] += c * (-ln * dd[k] * sn)
             continue
         s0, sg = seg_f[t, 2], seg_f[t, 3]
         e0 = 0.0
-        for k in range(nk):
-            cs, sn = u[k].real, u[k].imag
-            s = x[sv, k] - s0
-            a0[k] += sg * (e0 * sn + s * cs)
-            a1[k] += sg * (-e0 * cs + s * sn)
+        if sums:
+            for k in range(nk):
+                cs, sn = u[k].real, u[k].imag
+                s = x[sv, k] - s0
+                a0[k] += sg * (e0 * sn + s * cs)
+                a1[k] += sg * (-e0 * cs + s * sn)
         if not grad:
             continue
         for p in range(ex_ptr[e], ex_ptr[e + 1]):
             c, v = sg * ex_c[p], ex_var[p]
-            met = _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy)
-            for k in range(nk):
-                cs, sn = u[k].real, u[k].imag
-                s = x[sv, k] - s0
-                cx[v, k] += c * (e0 * cs - s * sn)
-                cy[v, k] += c * (e0 * sn + s * cs)
-                if rates:
+            met = _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy, again)
+            if sums:
+                for k in range(nk):
+                    cs, sn = u[k].real, u[k].imag
+                    s = x[sv, k] - s0
+                    cx[v, k] += c * (e0 * cs - s * sn)
+                    cy[v, k] += c * (e0 * sn + s * cs)
+            if rates:
+                for k in range(nk):
+                    cs, sn = u[k].real, u[k].imag
+                    s = x[sv, k] - s0
                     sd = xd[sv, k]
                     dcx[v, k] += c * (-e0 * dd[k] * sn - s * dd[k] * cs - sd * sn)
                     dcy[v, k] += c * (e0 * dd[k] * cs - s * dd[k] * sn + sd * cs)
-        met = _meet(sv, nb, seen, seq, met, cx, cy, dcx, dcy)
-        for k in range(nk):
-            cs, sn = u[k].real, u[k].imag
-            cx[sv, k] += sg * cs
-            cy[sv, k] += sg * sn
-            if rates:
+        met = _meet(sv, nb, seen, seq, met, cx, cy, dcx, dcy, again)
+        if sums:
+            for k in range(nk):
+                cs, sn = u[k].real, u[k].imag
+                cx[sv, k] += sg * cs
+                cy[sv, k] += sg * sn
+        if rates:
+            for k in range(nk):
+                cs, sn = u[k].real, u[k].imag
                 dcx[sv, k] += sg * (-dd[k] * sn)
                 dcy[sv, k] += sg * (dd[k] * cs)
     return met
@@ -550,7 +569,7 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
             conditions[blk + j] = 1.0
         for g in range(groups.shape[0]):
             lo, hi, u0, u1 = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
-            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, off, on, a0, a1, cx, cy,
+            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, off, on, off, a0, a1, cx, cy,
                         dcx, dcy, seen, seq, dd)
             if not (seen[u0] and seen[u1]):
                 return 3, 0.0
@@ -581,7 +600,7 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
                 xd[u1, j] = (j00 * r1 - j10 * r0) / det if ok else math.nan
             if order < 2:
                 continue
-            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, on, on, a0, a1, cx, cy, dcx,
+            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, on, on, on, a0, a1, cx, cy, dcx,
                         dcy, seen, seq, dd)
             for j in range(nb):
                 j00, j01, j10, j11 = cx[u0, j], cx[u1, j], cy[u0, j], cy[u1, j]
@@ -626,7 +645,7 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
                         out[col + 2, blk + j] = xdd[a, j]
                 col += order + 1
             else:
-                met = _loop(a, b, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, order >= 2, order >= 1, a0, a1,
+                met = _loop(a, b, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, order >= 2, order >= 1, off, a0, a1,
                             cx, cy, dcx, dcy, seen, seq, dd)
                 for j in range(nb):
                     k = blk + j
