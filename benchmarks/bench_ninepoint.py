@@ -4,8 +4,10 @@ For each of ``--queries`` point sets (nine points uniform in the unit square, se
 (:func:`domes.design.synthesis.ninepoint.nine_point_path`) tracks the 1,442 stored class representatives; the
 script reports the classes found, the solutions (six a class), the real classes, the usable linkages (real, no
 branch, order or dead-point defect, the kernel on every point), the largest Newton residual of all solutions
-(the points scaled to size 1), the largest kernel distance of a usable linkage from a point over the size, the
-paths tracked again, and the time per query (CPU and wall). Then Problem 7 (five points, two pivots).
+(the points scaled to size 1; for a solution far out, refined in extended precision, measured there), how many
+solutions were refined in extended precision, the largest kernel distance of a usable linkage from a point over
+the size, the paths tracked again, and the time per query (CPU and wall). Then Problem 7 (five points, two
+pivots).
 
     python benchmarks/bench_ninepoint.py [--queries 20] [--seed 0] [--first 0] [--no-check]
 """
@@ -28,7 +30,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     rng = np.random.default_rng(args.seed)
     rows = []
-    print("query classes solutions real usable max-residual max-usable-distance/size retracked cpu-s wall-s")
+    print("query classes solutions real usable max-residual extended max-usable-distance/size retracked cpu-s "
+          "wall-s")
     for q in range(args.queries):
         points = rng.uniform(0, 1, (9, 2))
         if q < args.first:
@@ -39,8 +42,9 @@ def main(argv=None):
         res = max(s.residual for s in r.solutions)
         far = max((max(s.distances) / r.size for s in r.usable), default=0.0)
         real = sum(1 for c in r.classes if c[0].real)
+        fine = sum(1 for s in r.solutions if s.extended is not None)
         rows.append((len(r.classes), res, far, cpu, wall))
-        print(f"{q:5d} {len(r.classes):7d} {len(r.solutions):9d} {real:4d} {len(r.usable):6d} {res:12.1e} "
+        print(f"{q:5d} {len(r.classes):7d} {len(r.solutions):9d} {real:4d} {len(r.usable):6d} {res:12.1e} {fine:8d} "
               f"{far:25.1e} {r.retracked:9d} {cpu:5.1f} {wall:6.1f}", flush=True)
     A = np.array(rows)
     print(f"all {CLASSES} classes in {int((A[:, 0] == CLASSES).sum())} of {len(A)} queries; largest residual "

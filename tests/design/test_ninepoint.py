@@ -11,6 +11,10 @@ from domes.design.synthesis.fourbars import check
 from domes.design.synthesis.isotropic import DyadSystem, plant
 from domes.design.synthesis.ninepoint import (
     CLASSES,
+    EXTENDED_DPS,
+    REAL,
+    REAL_EXTENDED,
+    RESIDUAL,
     certify,
     check_points,
     class_key,
@@ -18,6 +22,7 @@ from domes.design.synthesis.ninepoint import (
     nine_point_path,
     orbit,
     real_fourbar,
+    refine_extended,
     start_set,
 )
 from domes.design.synthesis.pathfit import crank_rocker_path
@@ -54,6 +59,55 @@ def test_newton_on_an_extended_residual_returns_to_the_planted_solution():
     for extended in (False, True):
         w, res, _ = hc.refine(system, start, p, extended=extended)
         assert w.dtype == complex and np.abs(w - z).max() < 1e-10 * (1 + np.abs(z).max()) and res.max() < 1e-12
+
+#: A real solution of query 9 of ``benchmarks/bench_ninepoint.py`` (the last of its 1,442 classes, the member the
+#: solver tracked) as the solver returned it in double: ``x, x̄, a, ā, y, ȳ, b, b̄`` (the points scaled to size 1,
+#: from point 1) and the eight ``θ``, then ``θ̄``. Its fixed pivot ``a`` is 9·10⁵ sizes out.
+FAR_OUT = np.array([
+    -88.12985517273783 - 166.82757724140825j, -88.1298551658519 + 166.82757724518012j,
+    455451.18062160286 + 776644.1455806266j, 455451.23240023165 - 776644.1152158492j,
+    0.33596678401920804 + 1.068940152310454j, 0.3359667840047897 - 1.0689401523157538j,
+    0.3993542865760418 + 0.5294073651671714j, 0.39935428656157973 - 0.5294073651724543j,
+    0.9913609234445243 - 0.13116218764984164j, 0.9997088795688648 + 0.024127911447551113j,
+    0.9936922059262794 - 0.112141873905207j, 0.995347500203577 - 0.09635016263511711j,
+    0.9978592961849236 + 0.06539743891349765j, 0.9999571955250182 - 0.009252411464543444j,
+    0.9971250347103014 - 0.0757737761698738j, 0.9999931377184261 - 0.0037046614090660976j,
+    0.9913609234426684 + 0.13116218764959603j, 0.9997088795692091 - 0.024127911447559394j,
+    0.9936922059246831 + 0.11214187390502689j, 0.9953475002022598 + 0.09635016263498973j,
+    0.9978592961858063 - 0.06539743891355554j, 0.9999571955248497 + 0.009252411464541931j,
+    0.9971250347092425 + 0.07577377616979339j, 0.9999931377183273 + 0.003704661409065859j])
+
+
+def test_a_solution_far_out_is_certified_in_extended_precision():
+    """The class of query 9 whose cognates have a dyad with both pivots 9·10⁵ sizes out: from the double
+    approximation, a cognate stays over 1e-8 of the size in double (also with a ``clongdouble`` residual), and
+    the members' conjugates, after double Newton, are 1e-8 to 1e-7 apart; refined in mpmath, all six are real
+    and their dyads keep their lengths in every position, measured as distances between the real pivots."""
+    import mpmath
+
+    rng = np.random.default_rng(0)
+    for _ in range(10):                                     # the benchmark's points of query 9
+        P = rng.uniform(0, 1, (9, 2))
+    rel = (P - P[0]) / np.ptp(P, axis=0).max()
+    d = rel[1:, 0] + 1j * rel[1:, 1]
+    p = np.concatenate([d, d.conj()])
+    system = DyadSystem(8)
+    members = [w[0] for w in orbit(FAR_OUT[None], p[None])]
+    rough = hc.refine(system, hc.refine(system, members[2][None], p[None])[0], p[None], extended=True)[0]
+    assert system.point_error(rough, p[None])[0] > RESIDUAL
+    # double Newton leaves the members' conjugates 1e-8 to 1e-7 apart: the double test of being real is at a loss
+    assert not all(is_real(hc.refine(system, z[None], p[None])[0][0], REAL / 10) for z in members)
+    for z in members:
+        w, error = refine_extended(system, z, p)
+        assert error < RESIDUAL
+        with mpmath.workdps(EXTENDED_DPS):
+            assert is_real(w, REAL_EXTENDED)
+            x, a, y, b = (mpmath.re(w[k]) + 1j * mpmath.im(w[k]) for k in (0, 2, 4, 6))
+            for j in range(8):
+                turn = w[8 + j] / abs(w[8 + j])
+                for arm, pivot in ((x, a), (y, b)):
+                    assert abs(abs(d[j] + turn * arm - pivot) - abs(arm - pivot)) < RESIDUAL
+
 
 def _isotropic(P, a0, b0, A, B):
     """A real four-bar's isotropic coordinates (points scaled by the bounding box, from point 1) and parameters."""

@@ -77,27 +77,29 @@ class DyadSystem:
 
     def point_error(self, z, p):
         """Each row's residual as a distance: a dyad equation's residual over twice the dyad's length (how far
-        the length is off), and ``|θ θ̄ − 1|`` times the coupler's arms; the largest, in the points' units."""
+        the length is off), and ``|θ θ̄ − 1|`` times the coupler's arms; the largest, in the points' units. Also
+        on object arrays of ``mpmath.mpc`` (extended precision)."""
         (x, xb, a, ab, y, yb, b, bb), th, thb, d, db = self._split(z, p)
         with np.errstate(all="ignore"):
-            left = np.abs(dyad(x, xb, a, ab, th, thb, d, db)) / (2 * np.sqrt(np.abs((x - a) * (xb - ab))))
-            right = np.abs(dyad(y, yb, b, bb, th, thb, d, db)) / (2 * np.sqrt(np.abs((y - b) * (yb - bb))))
+            left = np.abs(dyad(x, xb, a, ab, th, thb, d, db)) / (2 * np.abs((x - a) * (xb - ab)) ** 0.5)
+            right = np.abs(dyad(y, yb, b, bb, th, thb, d, db)) / (2 * np.abs((y - b) * (yb - bb)) ** 0.5)
             turn = np.abs(th * thb - 1) * np.maximum(np.abs(x) + np.abs(xb), np.abs(y) + np.abs(yb)) / 2
         return np.max(np.concatenate([left, right, turn], axis=1), axis=1)
 
     def _blocks(self, z, p):
         """Per position ``j``: ``U`` (N, n, 3, nu), the rows' derivatives in the linkage unknowns, and ``V``
-        (N, n, 3, 2) in ``θ_j, θ̄_j``."""
+        (N, n, 3, 2) in ``θ_j, θ̄_j`` (object arrays for object ``z``: extended precision)."""
         (x, xb, a, ab, y, yb, b, bb), th, thb, d, db = self._split(z, p)
         N, n = th.shape
+        kind = object if z.dtype == object else complex
         L = dyad_partials(x, xb, a, ab, th, thb, d, db)
         R = dyad_partials(y, yb, b, bb, th, thb, d, db)
-        U = np.zeros((N, n, 3, self.nu), complex)
+        U = np.zeros((N, n, 3, self.nu), kind)
         k = 2 if self.pivots_given else 4
         for c in range(k):
             U[:, :, 0, c] = L[c]
             U[:, :, 1, k + c] = R[c]
-        V = np.empty((N, n, 3, 2), complex)
+        V = np.empty((N, n, 3, 2), kind)
         V[:, :, 0, 0], V[:, :, 0, 1] = L[4], L[5]
         V[:, :, 1, 0], V[:, :, 1, 1] = R[4], R[5]
         V[:, :, 2, 0], V[:, :, 2, 1] = thb, th
@@ -132,11 +134,11 @@ class DyadSystem:
         return np.concatenate([du, (g11 * h0 - g01 * h1) / det, (g00 * h1 - g01.conj() * h0) / det], axis=1)
 
     def jacobian(self, z, p):
-        """The dense Jacobian ``∂F/∂z`` (N, m, m), for condition numbers."""
+        """The dense Jacobian ``∂F/∂z`` (N, m, m), for condition numbers and extended-precision Newton."""
         n, nu = self.n, self.nu
         U, V, _, _ = self._blocks(z, p)
         N = len(z)
-        J = np.zeros((N, self.m, self.m), complex)
+        J = np.zeros((N, self.m, self.m), U.dtype)
         j = np.arange(n)
         for row in range(3):
             J[:, row * n + j, :nu] = U[:, :, row, :]

@@ -6,8 +6,9 @@ coupler rotations are eliminated, with 8,652 nonsingular solutions for generic p
 three Roberts-Chebyshev cognates (one coupler curve) and the two labellings of each (which dyad is ``a``). A
 parameter homotopy (:mod:`~domes.design.synthesis.homotopy`) tracks one member of each class from a stored
 generic solution set (``ninepoint.npz``, made by ``benchmarks/make_ninepoint_start.py``: one planted four-bar,
-then monodromy loops) to the given points; every end point is refined by Newton, its residual and condition
-number kept, its five other class members made by :func:`orbit`, and each real one checked as a mechanism by the
+then monodromy loops) to the given points; every end point is refined by Newton (a solution far out, which double
+coordinates cannot carry, in extended precision: :func:`refine_extended`), its residual and condition number
+kept, its five other class members made by :func:`orbit`, and each real one checked as a mechanism by the
 project's checks and kinematics kernel (branch, order and dead-point defects; the kernel driving the crank
 through its nine angles must put the coupler point on the points).
 
@@ -54,6 +55,12 @@ POLISH = 1e-10
 FIRST_TOL = 3e-4
 #: A solution is real when its coordinates equal the conjugates of their partners within this (relative).
 REAL = 1e-7
+#: Digits of the extended precision (mpmath) in which a solution far out is refined, certified and kept.
+EXTENDED_DPS = 40
+#: :data:`REAL` for extended-precision coordinates: their last Newton step is 10⁻²⁵ or less, relative.
+REAL_EXTENDED = 1e-20
+#: A path's end point within this of a solution (residual as a distance) is tried in extended precision.
+NEAR = 1e-4
 
 
 def relabel(z):
@@ -105,7 +112,11 @@ class NinePointSolution:
     class and member (0: the tracked one), the isotropic coordinates ``z`` (in the points' units), the Newton
     ``residual`` as a distance over the points' size (how far a dyad's length is off) and the scaled Jacobian's
     ``condition``; for a real one its ``checks`` (defects), the kernel's
-    distance from each point (``distances``, in length units) and whether it is ``usable``."""
+    distance from each point (``distances``, in length units) and whether it is ``usable``. A solution far out,
+    whose double coordinates cannot carry it (its residual in double over :data:`POLISH`), or whose class's
+    members disagree on being real, also has ``extended``: its coordinates refined by Newton in mpmath
+    (:data:`EXTENDED_DPS` digits; ``mpc``, the same units as ``z``), from which its ``residual``, its being real
+    and its four-bar are taken (``z`` is then ``extended`` rounded to double)."""
 
     cls: int
     member: int
@@ -117,6 +128,7 @@ class NinePointSolution:
     checks: Checks | None = None
     distances: tuple[float, ...] = ()
     defects: tuple[str, ...] = ()
+    extended: tuple | None = field(default=None, repr=False)
 
     @property
     def usable(self) -> bool:
@@ -205,7 +217,24 @@ def _polished(system, z, p1, done=True):
     rough = np.flatnonzero(~(system.point_error(z, pp) < POLISH) & done)
     if len(rough):
         z[rough] = hc.refine(system, z[rough], pp[rough], iterations=4, extended=True)[0]
-    return z, done & (system.point_error(z, pp) < RESIDUAL)
+    error = system.point_error(z, pp)
+    # a solution far out whose double residual cannot reach RESIDUAL: certified in extended precision
+    for k in np.flatnonzero(done & (error >= RESIDUAL) & (error < NEAR)):
+        w, error[k] = refine_extended(system, z[k], pp[k])
+        z[k] = w.astype(complex)
+    return z, done & (error < RESIDUAL)
+
+
+def refine_extended(system, z, p):
+    """The row ``z`` refined at ``p`` by Newton in extended precision (:func:`~.homotopy.refine_mp`,
+    :data:`EXTENDED_DPS` digits): the coordinates (``mpc``) and their residual as a distance, measured in the
+    same precision (infinite when Newton has not settled)."""
+    import mpmath
+
+    w, step = hc.refine_mp(system, z, p, EXTENDED_DPS)
+    with mpmath.workdps(EXTENDED_DPS):
+        error = float(system.point_error(w[None], hc.mp_array(p)[None])[0])
+    return w, error if step < 1e-12 else math.inf
 
 
 def _track(system, z0, p0, p1, gamma, key, rng, tries: int = 3):
@@ -291,8 +320,10 @@ def nine_point_path(points, seed: int = 0, check_mechanisms: bool = True, passes
     if progress:
         progress(f"{len(reps)} classes; checking the real ones")
     quality = [certify(system, w, p1) for w in members]
-    classes = [tuple(solution(k, m, members[m][k], quality[m][0][k], quality[m][1][k], P, size, check_mechanisms)
-                     for m in range(6)) for k in range(len(reps))]
+    far = far_out(members, quality)
+    fine = {(k, m): refine_extended(system, members[m][k], p1[0]) for k in far for m in range(6)}
+    classes = [tuple(solution(k, m, members[m][k], quality[m][0][k], quality[m][1][k], P, size, check_mechanisms,
+                              fine.get((k, m))) for m in range(6)) for k in range(len(reps))]
     notes = []
     if len(reps) < CLASSES:
         notes.append(f"{CLASSES - len(reps)} class(es) not found: their paths failed or the points are not generic")
@@ -300,11 +331,29 @@ def nine_point_path(points, seed: int = 0, check_mechanisms: bool = True, passes
                          time.perf_counter() - t0, tuple(notes))
 
 
-def is_real(z) -> bool:
-    """Whether the isotropic coordinates are those of a real linkage (each ``z̄`` the conjugate of ``z``)."""
+def far_out(members, quality) -> list[int]:
+    """The classes to refine in extended precision: a member's double residual over :data:`POLISH` (a solution
+    far out, whose double coordinates cannot carry it), or members that disagree on being real (a far-out one's
+    coordinates off by 10⁻⁷ of themselves: the solution is ill-conditioned along a long link)."""
+    rough = np.any([q[0] > POLISH for q in quality], axis=0)
+    real = np.array([real_rows(w) for w in members])
+    return np.flatnonzero(rough | (real.any(axis=0) & ~real.all(axis=0))).tolist()
+
+
+def real_rows(z, tol: float = REAL):
+    """:func:`is_real` of each row of ``z`` (double), vectorised."""
+    n = (z.shape[1] - 8) // 2
+    u = z[:, [0, 2, 4, 6, *range(8, 8 + n)]]
+    v = z[:, [1, 3, 5, 7, *range(8 + n, 8 + 2 * n)]]
+    return (np.abs(u.conj() - v) <= tol * (1 + np.abs(u))).all(axis=1)
+
+
+def is_real(z, tol: float = REAL) -> bool:
+    """Whether the isotropic coordinates are those of a real linkage (each ``z̄`` the conjugate of ``z`` within
+    ``tol`` of ``1 + |z|``; double or ``mpc`` values)."""
     n = (len(z) - 8) // 2
     pairs = [(z[k], z[k + 1]) for k in range(0, 8, 2)] + [(z[8 + j], z[8 + n + j]) for j in range(n)]
-    return all(abs(u.conjugate() - v) <= REAL * (1 + abs(u)) for u, v in pairs)
+    return all(abs(u.conjugate() - v) <= tol * (1 + abs(u)) for u, v in pairs)
 
 
 def certify(system, z, p):
@@ -313,31 +362,49 @@ def certify(system, z, p):
     return system.point_error(z, p), hc.condition(system, z, p)
 
 
-def solution(k, m, z, res, cond, P, size, check_mechanisms) -> NinePointSolution:
+def solution(k, m, z, res, cond, P, size, check_mechanisms, fine=None) -> NinePointSolution:
     """The solution ``z`` (eight linkage coordinates and the rotations, points scaled to size 1) with its
-    residual and condition; a real one as a four-bar, checked for defects (the kernel replays the defect-free)."""
-    real = is_real(z)
+    residual and condition; a real one as a four-bar, checked for defects (the kernel replays the defect-free).
+    ``fine``: its extended-precision coordinates and residual (:func:`refine_extended`), which then decide."""
+    ext = None
+    if fine is None:
+        real = is_real(z)
+        linkage = real_fourbar(z, P, size) if real else None
+    else:
+        import mpmath
+
+        with mpmath.workdps(EXTENDED_DPS):                  # mpc arithmetic rounds to the working precision
+            w, res = fine
+            real = is_real(w, REAL_EXTENDED)
+            linkage = real_fourbar(w, P, size) if real else None
+            ext = tuple(c * size if i < 8 else c for i, c in enumerate(w))
+            z = w.astype(complex)
     scaled = np.array(z)
     scaled[:8] *= size
+    head = (k, m, scaled, real, float(res), float(cond))
     if not real:
-        return NinePointSolution(k, m, scaled, False, float(res), float(cond))
-    fb, A, B = real_fourbar(z, P, size)
+        return NinePointSolution(*head, extended=ext)
+    fb, A, B = linkage
     if not check_mechanisms:
-        return NinePointSolution(k, m, scaled, True, float(res), float(cond), fb)
+        return NinePointSolution(*head, fb, extended=ext)
     checks = check(fb, A, B)
     if checks.defects:
-        return NinePointSolution(k, m, scaled, True, float(res), float(cond), fb, checks, (), checks.defects)
+        return NinePointSolution(*head, fb, checks, (), checks.defects, extended=ext)
     dist, defects = replay_check(fb, Claim(angles=tuple(math.radians(a) for a in checks.crank_angles_deg),
                                            points=tuple(map(tuple, P))), 1e-8, size)
-    return NinePointSolution(k, m, scaled, True, float(res), float(cond), fb, checks, dist, defects)
+    return NinePointSolution(*head, fb, checks, dist, defects, extended=ext)
 
 
 def real_fourbar(z, P, size):
-    """The real linkage of ``z`` (points' units): the four-bar and its moving pivots at every point."""
+    """The real linkage of ``z`` (points' units; double or ``mpc`` values, these rounded once their real parts are
+    taken): the four-bar and its moving pivots at every point."""
     n = (len(z) - 8) // 2
     x, a, y, b = ((z[k] + z[k + 1].conjugate()) / 2 for k in (0, 2, 4, 6))
     th = np.concatenate([[1.0], z[8:8 + n]])
     th = th / np.abs(th)
+    if z.dtype == object:                                   # the four-bar holds doubles
+        x, a, y, b = (complex(v) for v in (x, a, y, b))
+        th = th.astype(complex)
     c = P[:, 0] + 1j * P[:, 1]
     A = c + size * th * x
     B = c + size * th * y
