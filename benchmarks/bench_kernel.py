@@ -113,6 +113,9 @@ def _route(route):
 
 
 def sweeps(repeat, names=EXAMPLES):
+    """A row per example, library, route and order: the median and the best of ``repeat`` runs, taken in rounds
+    (each round runs every library's sweep of the example once, in turn), so that a change of the machine's load
+    falls on all of them alike."""
     rows = []
     for name in names:
         m = example(name)
@@ -122,34 +125,58 @@ def sweeps(repeat, names=EXAMPLES):
         point = FAR_JOINT[name]
         refs = _reference_points(m, qs, point, 100)
         outputs = [o.name for o in parse_outputs(m, None)] + [f"point:{point}"]  # all outputs and the far joint
+        timed, slow_rows = [], []
         for order in (0, 2):
             kin = Kinematics(m, outputs, order)
             for route in ROUTES:
-                _route(route)
-                t, sw = median_time(lambda: run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS), repeat)
-                pts = np.c_[sw.column(f"point:{point}.x"), sw.column(f"point:{point}.y")]
-                rows.append((name, f"domes ({route})", order, t, sw.max_residual, _error(pts, refs, m.size),
-                             len(sw.dead_points)))
+                timed.append((f"domes ({route})", order, _ours(kin, qs, route)))
             if iterated(kin):  # the step-by-step Newton route the arrays replace (once: it is slow)
+                _route(ROUTES[-1])
+                sw = run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS)
                 cont = Continuation(kin)
                 t, slow = median_time(lambda: _scalar_sweep(kin, cont, list(qs), None), 1)
                 same = max(float(np.nanmax(np.abs(sw.column(c) - slow.column(c)))) / _unit(m, c) for c in sw.columns)
                 pts = np.c_[slow.column(f"point:{point}.x"), slow.column(f"point:{point}.y")]
-                rows.append((name, "domes step by step", order, t, slow.max_residual, _error(pts, refs, m.size),
-                             f"arrays − steps: {same:.1e} of the scale"))
+                slow_rows.append((name, "domes step by step", order, t, t, slow.max_residual,
+                                  _error(pts, refs, m.size), f"arrays − steps: {same:.1e} of the scale"))
         for peer, fn in PEERS.items():
             try:
                 got = fn(m, qs, point)  # the first run warms the peer up (numba's dispatch, caches), as ours
             except NotImplementedError as exc:
-                rows.append((name, peer, 0, None, None, None, str(exc)))
+                rows.append((name, peer, 0, None, None, None, None, str(exc)))
                 continue
             if got is None:
-                rows.append((name, peer, 0, None, None, None, "not installed"))
+                rows.append((name, peer, 0, None, None, None, None, "not installed"))
                 continue
-            runs = [fn(m, qs, point) for _ in range(repeat)]
-            pts, t = runs[0][0], statistics.median(dt for _, dt in runs)
-            rows.append((name, peer, 0, t, None, _error(pts, refs, m.size), None))
+            timed.append((peer, 0, lambda fn=fn, got=got: (fn(m, qs, point)[1], (got[0], None, 0))))
+        for _, _, run in timed:
+            run()  # warm up: numba's dispatch, the query's caches
+        times = [[] for _ in timed]
+        last = [None] * len(timed)
+        for _ in range(repeat):
+            for k, (_, _, run) in enumerate(timed):
+                last[k] = None  # drop the last result first: peak memory is one result, not two
+                dt, last[k] = run()
+                times[k].append(dt)
+        for (lib, order, _), ts, (pts, residual, dead) in zip(timed, times, last):
+            rows.append((name, lib, order, statistics.median(ts), min(ts), residual, _error(pts, refs, m.size),
+                         None if residual is None else dead))
+        rows += slow_rows
     return rows
+
+
+def _ours(kin, qs, route):
+    """A timed sweep of ``kin`` by ``route``: ``(seconds, (far joint's points, max residual, dead points))``."""
+    far = kin.outputs[-1].target  # the far joint's point is the last output
+
+    def run():
+        _route(route)
+        t = CLOCK()
+        sw = run_sweep(kin, qs[0], qs[-1], 2 * math.pi / STEPS)
+        dt = CLOCK() - t
+        return dt, (np.c_[sw.column(f"point:{far}.x"), sw.column(f"point:{far}.y")], sw.max_residual,
+                    len(sw.dead_points))
+    return run
 
 
 def four_bar_template():
@@ -237,15 +264,16 @@ def main(argv=None):
     unknown = sorted(set(names) - set(EXAMPLES))
     if unknown:
         ap.error(f"--only: {unknown} are not examples; choose among {EXAMPLES}")
-    print(f"## Sweeps of {STEPS:,} steps (median of {args.repeat}, {args.clock} time)\n")
-    print("| mechanism | library | order | time [ms] | max residual | position error / size | dead points |")
-    print("|---|---|---:|---:|---:|---:|---|")
-    for name, lib, order, t, res, err, dead in sweeps(args.repeat, names):
+    print(f"## Sweeps of {STEPS:,} steps ({args.repeat} rounds, each library in turn; {args.clock} time)\n")
+    print("| mechanism | library | order | median [ms] | best [ms] | max residual | position error / size | "
+          "dead points |")
+    print("|---|---|---:|---:|---:|---:|---:|---|")
+    for name, lib, order, t, best, res, err, dead in sweeps(args.repeat, names):
         if t is None:
-            print(f"| {name} | {lib} | | | | | skipped: {dead} |")
+            print(f"| {name} | {lib} | | | | | | skipped: {dead} |")
         else:
-            print(f"| {name} | {lib} | {order} | {t * 1e3:.1f} | {'' if res is None else f'{res:.1e}'} | "
-                  f"{err:.1e} | {'' if dead is None else dead} |")
+            print(f"| {name} | {lib} | {order} | {t * 1e3:.2f} | {best * 1e3:.2f} | "
+                  f"{'' if res is None else f'{res:.1e}'} | {err:.1e} | {'' if dead is None else dead} |")
     if args.no_batch:
         return
     print(f"\n## Batch: {args.mechanisms:,} random four-bars × 360 inputs, a coupler point (median of "
