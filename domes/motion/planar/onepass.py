@@ -625,16 +625,19 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
             kind, a, b = outs_i[o, 0], outs_i[o, 1], outs_i[o, 2]
             if kind == 0:
                 for j in range(nb):
-                    val = rate = accel = 0.0
+                    val = 0.0
                     for p in range(ex_ptr[a], ex_ptr[a + 1]):
                         val += ex_c[p] * x[ex_var[p], j]
-                        rate += ex_c[p] * xd[ex_var[p], j]
-                        accel += ex_c[p] * xdd[ex_var[p], j]
                     out[col, blk + j] = outs_f[o] + (val + ex_const[a])
-                    if order >= 1:
+                if order >= 1:  # the rates apart: at order 0 their rows are not filled
+                    for j in range(nb):
+                        rate = accel = 0.0
+                        for p in range(ex_ptr[a], ex_ptr[a + 1]):
+                            rate += ex_c[p] * xd[ex_var[p], j]
+                            accel += ex_c[p] * xdd[ex_var[p], j]
                         out[col + 1, blk + j] = rate
-                    if order >= 2:
-                        out[col + 2, blk + j] = accel
+                        if order >= 2:
+                            out[col + 2, blk + j] = accel
                 col += order + 1
             elif kind == 1:
                 for j in range(nb):
