@@ -7,7 +7,10 @@ positions of a coupler point, through :func:`domes.motion.planar.batch.batch`
 with a sink:
 
 - ``extremes``: :class:`~domes.motion.planar.batch.ExtremesSink`, per-mechanism
-  extremes (O(M) memory), default 10^6 four-bars;
+  extremes (O(M) memory), default 10^6 four-bars (compiled: placed and reduced
+  in one loop, :mod:`domes.motion.planar.reduce`);
+- ``positions`` (with ``--positions``): the same extremes reduced from each
+  chunk's positions (the compiled route without that loop), beside it;
 - ``collect``: the default (every value kept, the ``Batch``), default 10^5;
 - ``hdf5``: :class:`~domes.io.batchfile.HDF5Sink` into a temporary
   folder (when ``h5py`` is installed), default 10^5.
@@ -48,6 +51,10 @@ from domes.motion.planar.batch import MEMORY, ExtremesSink, batch  # noqa: E402
 INPUTS = 360
 
 
+class PositionsSink(ExtremesSink):
+    """Extremes reduced from each chunk's positions: ``batch`` takes its fused loop for ``ExtremesSink`` only."""
+
+
 def _rss_mib() -> float:
     return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024  # kB on Linux
 
@@ -61,6 +68,8 @@ def child(sink: str, count: int, memory: int, chunk: int | None) -> dict:
     kw = {"memory": memory, "chunk": chunk}
     if sink == "extremes":
         kw["sink"] = ExtremesSink()
+    elif sink == "positions":
+        kw["sink"] = PositionsSink()
     elif sink == "hdf5":
         kw["sink"] = HDF5Sink(os.path.join(folder, "batch.h5"))
     t = time.process_time()
@@ -88,6 +97,8 @@ def main(argv=None):
     ap.add_argument("--mechanisms", type=int, default=1_000_000, help="four-bars reduced to extremes")
     ap.add_argument("--collect", type=int, default=100_000, help="four-bars collected (and written to HDF5)")
     ap.add_argument("--memory", type=int, default=MEMORY, help="the budget, bytes")
+    ap.add_argument("--positions", action="store_true",
+                    help="also reduce the same four-bars from each chunk's positions (the route without the fused loop)")
     ap.add_argument("--chunks", action="store_true", help="also time chunk sizes (extremes, 3·10^4 four-bars)")
     ap.add_argument("--kernel", choices=["auto", "numpy", "numba"], default="auto",
                     help="the kernel's route (DOMES_KERNEL; auto compiles batches of 2^24 configurations and more)")
@@ -100,10 +111,11 @@ def main(argv=None):
     os.environ[compiled.VARIABLE] = args.kernel  # the children inherit it
     try:
         import h5py  # noqa: F401
-        sinks = [("extremes", args.mechanisms), ("collect", args.collect), ("hdf5", args.collect)]
+        sinks = [("collect", args.collect), ("hdf5", args.collect)]
     except ImportError:
-        sinks = [("extremes", args.mechanisms), ("collect", args.collect)]
+        sinks = [("collect", args.collect)]
         print("h5py is not installed: the HDF5 sink is skipped\n")
+    sinks = [("extremes", args.mechanisms)] + ([("positions", args.mechanisms)] if args.positions else []) + sinks
     print(f"## Bounded batches: random four-bars × {INPUTS} inputs, a coupler point (budget {args.memory:,} B)\n")
     print("| sink | route | mechanisms | peak RSS [MiB] | RSS before [MiB] | CPU [s] | wall [s] | positions / CPU s | "
           "chunk | bytes / mechanism |")

@@ -78,8 +78,8 @@ def extremes(prog, table, geom, qs, joint, ambiguous, size, lo, minimum, maximum
     S0 = stacked([geom.s0[s] for s in tape.slides], 0.0, float)
     drawn = stacked([geom.drawn[j] for j in tape.inputs], 0.0, float)
     sign = stacked([geom.sign.get(i, 1.0) for i in tape.dyads], 1.0, float)
-    flags = np.ascontiguousarray(np.broadcast_to(ambiguous, (mg,)), dtype=np.bool_)
-    sizes = np.ascontiguousarray(np.broadcast_to(size, (mg,)), dtype=float)
+    flags = np.broadcast_to(ambiguous, (mg,)).astype(np.bool_)  # writable copies: one compiled signature
+    sizes = np.broadcast_to(size, (mg,)).astype(float)
     signed = np.array(tape.signed, dtype=np.bool_)
     q = np.ascontiguousarray(qs, dtype=float).reshape(-1)
     used = np.zeros(len(tape.links), dtype=np.bool_)  # the links a later step or an output reads
