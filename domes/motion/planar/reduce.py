@@ -120,7 +120,11 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
     W = np.empty((nl, n), dtype=np.complex128)
     S = np.zeros((max(ns, 1), n))
     good = np.empty(n, dtype=np.bool_)
-    least = np.empty(n)
+    nd = 0
+    for r in range(nr):
+        nd += rows[r, 0] == RRR
+    roots = np.empty((max(nd, 1), n))  # each dyad's root numerator; its denominator 2·l1·l2 is the mechanism's
+    scale = np.ones(max(nd, 1))
     most = np.empty(n)
     for m in range(G.shape[0]):
         g = G[m]
@@ -128,7 +132,7 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
         for i in range(n):
             R[0, i], W[0, i] = 1.0, 0.0
             good[i] = not ambiguous[m]
-            least[i], most[i] = np.inf, 0.0
+            most[i] = 0.0
         for r in range(nr):
             op = rows[r, 0]
             if op == DRIVER_R or op == DRIVER_P:
@@ -161,9 +165,9 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
             R1, W1, R2, W2 = R[l1], W[l1], R[l2], W[l2]
             sg = sign[m, d]
             used1, used2 = used[l1], used[l2]
-            root = signed[d]
             ba, bc = b - a, b - c
             l1n, l2n = abs(ba), abs(bc)
+            scale[d] = 2 * l1n * l2n if signed[d] else np.nan  # unsigned: no root
             dlo, dhi = abs(l1n - l2n), l1n + l2n
             ia, ic = ba.conjugate(), bc.conjugate()
             for i in range(n):
@@ -182,8 +186,7 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
                 prod = max((l1n + dd + l2n) * (l1n + dd - l2n) * (l1n - dd + l2n) * (-l1n + dd + l2n), 0.0)
                 rp = np.sqrt(prod)
                 Bp = A + D * complex(l1n * l1n + dd2 - l2n * l2n, sg * rp) * (0.5 / dd2)
-                if root:
-                    least[i] = min(least[i], rp / (2 * l1n * l2n))
+                roots[d, i] = rp
                 W1[i], W2[i] = A, C
                 if used1:
                     z1 = (Bp - A) * ia
@@ -193,12 +196,20 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
                     R2[i] = z2 * (1.0 / np.sqrt(z2.real * z2.real + z2.imag * z2.imag))
                 e = Bp - C  # the closure: how far B lies from the length B–C, |C + u2·(b − c) − B| = ||B − C| − l2|
                 most[i] = max(most[i], abs(np.sqrt(e.real * e.real + e.imag * e.imag) - l2n))
-        worst = np.inf
+        worst = np.inf  # the smallest root rp / (2·l1·l2) over the good inputs: the smallest rp, divided once
         closure = 0.0
+        for k in range(nd):
+            if scale[k] != scale[k]:
+                continue
+            small = np.inf
+            for i in range(n):
+                if good[i] and roots[k, i] < small:
+                    small = roots[k, i]
+            if small / scale[k] < worst:
+                worst = small / scale[k]
         for i in range(n):
-            if good[i]:
-                worst = min(worst, least[i])
-                closure = max(closure, most[i])
+            if good[i] and most[i] > closure:
+                closure = most[i]
         col = 0
         for j in range(no):
             if spec[j, 0] == 0:
