@@ -125,14 +125,14 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
         nd += rows[r, 0] == RRR
     roots = np.empty((max(nd, 1), n))  # each dyad's root numerator; its denominator 2·l1·l2 is the mechanism's
     scale = np.ones(max(nd, 1))
-    most = np.empty(n)
+    gaps = np.empty((max(nd, 1), n))  # each dyad's |B − C|², against its length l2
+    length = np.ones(max(nd, 1))
     for m in range(G.shape[0]):
         g = G[m]
         limit = undetermined = False
         for i in range(n):
             R[0, i], W[0, i] = 1.0, 0.0
             good[i] = not ambiguous[m]
-            most[i] = 0.0
         for r in range(nr):
             op = rows[r, 0]
             if op == DRIVER_R or op == DRIVER_P:
@@ -168,6 +168,7 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
             ba, bc = b - a, b - c
             l1n, l2n = abs(ba), abs(bc)
             scale[d] = 2 * l1n * l2n if signed[d] else np.nan  # unsigned: no root
+            length[d] = l2n
             dlo, dhi = abs(l1n - l2n), l1n + l2n
             ia, ic = ba.conjugate(), bc.conjugate()
             for i in range(n):
@@ -195,7 +196,7 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
                     z2 = (Bp - C) * ic
                     R2[i] = z2 * (1.0 / np.sqrt(z2.real * z2.real + z2.imag * z2.imag))
                 e = Bp - C  # the closure: how far B lies from the length B–C, |C + u2·(b − c) − B| = ||B − C| − l2|
-                most[i] = max(most[i], abs(np.sqrt(e.real * e.real + e.imag * e.imag) - l2n))
+                gaps[d, i] = e.real * e.real + e.imag * e.imag
         worst = np.inf  # the smallest root rp / (2·l1·l2) over the good inputs: the smallest rp, divided once
         closure = 0.0
         for k in range(nd):
@@ -207,9 +208,13 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
                     small = roots[k, i]
             if small / scale[k] < worst:
                 worst = small / scale[k]
-        for i in range(n):
-            if good[i] and most[i] > closure:
-                closure = most[i]
+        for k in range(nd):  # ||B − C| − l2| is largest where |B − C|² is (both sides of l2): two roots a dyad
+            low, high = np.inf, -np.inf
+            for i in range(n):
+                if good[i]:
+                    low, high = min(low, gaps[k, i]), max(high, gaps[k, i])
+            if high >= low:
+                closure = max(closure, abs(np.sqrt(high) - length[k]), abs(np.sqrt(low) - length[k]))
         col = 0
         for j in range(no):
             if spec[j, 0] == 0:
