@@ -8,9 +8,8 @@ finished into outputs and masks, and reduced in a third pass; here one loop
 (:func:`extremes`) places each mechanism at each input with the same closed
 forms, in a few local variables, and keeps the running extremes, the
 limit/undetermined flags, the smallest dyad root and the largest closure. It
-serves tapes of drivers and RRR dyads with point and slide outputs (the
-four-bar, the Watt and Stephenson six-bars of revolutes, a slider driven
-along its slide); :func:`spec` says None otherwise and the batch takes the
+serves tapes of drivers (R or P) and RRR dyads with point and slide outputs
+(the four-bar, six-bars built of RRR dyads such as the Watt); :func:`spec` says None otherwise and the batch takes the
 general route. Both give the same numbers to rounding
 (``tests/motion/test_batch_reduce.py``).
 
