@@ -368,7 +368,7 @@ def run_match(args) -> int:
                               moving_svg(f.mechanism, circuit, wanted),
                               _fit_props(f) + tuple(("merged", _merged_text(g, why))
                                                     for g, why in _merged(result, k - 1))))
-        write_output(curves_html(cards, "Four-bars for a wanted path", result.message), args.output)
+        write_output(curves_html(cards, "Linkages for a wanted path", result.message), args.output)
     else:
         out = [result.message]
         for k, f in enumerate(result.fits, 1):

@@ -6,7 +6,13 @@ crank angle, coupler angle and tracer-link angle on the candidate; least
 squares then moves the twelve dimensions of
 :class:`~domes.motion.coupler.sixbar.SixBar`, the placement and every
 point's three angles, with the two loop closures as residuals of their own,
-until the tracing point passes through the wanted points. The fitted
+until the tracing point passes through the wanted points. That model
+trades the points' distance against the closures' (on a short tracer link
+a closure's error moves the point many times as far) and is drawn to
+collapsed links, so the fit goes on with both loops closed
+(:class:`ClosedModel`: each point only its crank angle, each loop its mode),
+minimising the distance the kernel measures; every link is kept at least
+2% of the path's size throughout (a collapsed link fits anything). The fitted
 linkage is placed in the path's frame and verified by the kinematics
 kernel at every point's crank angle (each point in the assembly modes
 nearest it): the reported error comes from the kernel, not from the model.
@@ -30,7 +36,7 @@ from scipy.optimize import least_squares
 from domes.errors import InputError
 from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism
 from domes.motion.coupler.fit import MAX_POINTS, MIN_LINK, _correspond, _spread, check_wanted
-from domes.motion.coupler.sixbar import KINDS, LINKS, SixBar
+from domes.motion.coupler.sixbar import KINDS, LINKS, SixBar, circle_meet
 from domes.motion.planar.kernel import Program
 from domes.motion.planar.query import Kinematics
 from domes.results import Result, Status
@@ -44,6 +50,10 @@ METHOD = "lm"
 ROUND = 40
 #: A round that leaves the largest residual above this share of the last ends the refinement (it has stalled).
 STALL = 0.97
+#: Evaluations of the refinement with both loops closed (:class:`ClosedModel`), after the first stops short.
+CLOSED = 300
+#: Where the link lengths ``a, b, c, d, e, f`` are among the unknowns.
+LENGTHS = [0, 1, 2, 3, 6, 7]
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,6 +94,8 @@ class SixModel:
     coordinates and the two loop closures (``|C − D| = c``, ``|F − G| = f``).
     """
 
+    blocks = 3
+
     def __init__(self, target, kind: str, mirror: bool):
         self.target, self.kind, self.mirror = np.asarray(target, dtype=float), kind, mirror
         self.n = len(self.target)
@@ -122,13 +134,65 @@ class SixModel:
             y[i] += h
             J[:, i] = (self.residuals(y) - f0) / h
         idx = np.arange(n)
-        for block in range(3):
+        for block in range(self.blocks):
             y = x.copy()
             y[GLOBAL + block * n:GLOBAL + (block + 1) * n] += 1e-7
             df = (self.residuals(y) - f0) / 1e-7
             for k in range(4):
                 J[k * n + idx, GLOBAL + block * n + idx] = df[k * n:(k + 1) * n]
         return J
+
+
+class ClosedModel(SixModel):
+    """The tracing point with both loops closed: each point has only its crank angle, each loop its assembly mode
+    (kept from a fit of :class:`SixModel`), and the residuals are the point's two coordinates and how far each loop is
+    from assembling (0 where it does). The distance it minimises is the one the kernel measures, where a
+    :class:`SixModel` fit trades the points' distance against the closures' (amplified on a long tracer)."""
+
+    blocks = 1
+
+    def __init__(self, target, kind: str, mirror: bool, modes):
+        super().__init__(target, kind, mirror)
+        self.modes = modes
+
+    @classmethod
+    def closing(cls, model: SixModel, x):
+        """The closed model and its start from a fit ``x`` of ``model``: signs of lengths folded into the angles."""
+        at = model.joints(x)
+        m1 = np.where(np.imag((at["C"] - at["B"]) * np.conj(at["D"] - at["B"])) < 0, -1.0, 1.0)
+        m2 = np.where(np.imag((at["F"] - at["E"]) * np.conj(at["G"] - at["E"])) < 0, -1.0, 1.0)
+        y = np.concatenate([x[:GLOBAL], x[GLOBAL:GLOBAL + model.n]])
+        for i, ij in ((1, (4, 5)), (6, (10, 11))):         # E = B + (p + iq)(C - B)/b, P = E + (u + iv)(F - E)/e
+            if y[i] < 0:
+                y[i], y[list(ij)] = -y[i], -y[list(ij)]
+        if y[0] < 0:
+            y[0], y[GLOBAL:] = -y[0], y[GLOBAL:] + np.pi
+        y[[2, 7]] = np.abs(y[[2, 7]])
+        return cls(model.target, model.kind, model.mirror, (m1, m2)), y
+
+    def _closed(self, x):
+        a, b, c, d, p, q, e, f, g, h, u, v = x[:12]
+        B = a * np.exp(1j * x[GLOBAL:])
+        D = d + 0 * B
+        C, _ = circle_meet(B, D, b, c, self.modes[0])
+        if self.kind == "stephenson":
+            E = B + (p + 1j * q) * (C - B) / b
+        else:
+            E = D + (p + 1j * q) * (C - D) / np.abs(C - D)
+        G = g + 1j * h + 0 * B
+        F, _ = circle_meet(E, G, e, f, self.modes[1])
+        return {"A": 0 * B, "B": B, "C": C, "D": D, "E": E, "F": F, "G": G, "P": E + (u + 1j * v) * (F - E) / e}
+
+    def joints(self, x):
+        return self._closed(x)
+
+    def residuals(self, x):
+        at = self._closed(x)
+        P = self.place(x, at["P"])
+        gaps = [np.maximum.reduce([np.abs(Y - X) - abs(r1) - abs(r2), np.abs(abs(r1) - abs(r2)) - np.abs(Y - X),
+                                   0 * X.real])
+                for X, Y, r1, r2 in ((at["B"], at["D"], x[1], x[2]), (at["E"], at["G"], x[6], x[7]))]
+        return np.concatenate([P.real - self.target[:, 0], P.imag - self.target[:, 1], *gaps])
 
 
 def start(target, candidate: SixBar):
@@ -183,11 +247,11 @@ def sixfit(points, candidate: SixBar, tol: float = 1e-6, max_nfev: int = 400, qu
         (x0, mirror), kind = start(unit, candidate), candidate.kind
     model = SixModel(unit, kind, mirror)
     before = _errors(model.residuals(x0), size)
-    lower = np.full(x0.size, -np.inf)
-    for i in (0, 1, 2, 3, 6, 7):
-        lower[i] = MIN_LINK
-        x0[i] = max(x0[i], MIN_LINK * 1.01)
-    x, fun, nfev = _solve(model, x0, lower, quick or max_nfev, 0.0 if quick else 0.3 * tol)
+    x, fun, nfev = _solve(model, _bounded(x0), quick or max_nfev, 0.0 if quick else 0.3 * tol)
+    if not quick:                                         # then the loops closed: the distance the kernel measures
+        model, x = ClosedModel.closing(model, x)
+        x, fun, used = _solve(model, _bounded(x), CLOSED, 0.3 * tol)
+        nfev += used
     a, b, c, d, p, q, e, f, g, h, u, v = (float(t) * size for t in x[:12])
     if kind == "stephenson" and b < 0:                     # a length's sign is a half turn of its link
         p, q = -p, -q
@@ -209,18 +273,28 @@ def sixfit(points, candidate: SixBar, tol: float = 1e-6, max_nfev: int = 400, qu
                   nfev, status, note)
 
 
-def _solve(model, x, lower, budget: int, enough: float):
-    """Least squares in rounds of :data:`ROUND` evaluations, until the largest residual is ``enough`` (of the unit
-    size), the budget is spent, or a round gains less than :data:`STALL` asks."""
-    bounds = (lower, np.inf) if METHOD == "trf" else (-np.inf, np.inf)
+def _bounded(x):
+    """``x`` with every link length (``a, b, c, d, e, f``) at least :data:`MIN_LINK` of the size, its sign kept (a
+    negative length is a half turn of its link): a collapsed link fits anything."""
+    x = x.copy()
+    x[LENGTHS] = np.where(x[LENGTHS] < 0, -1.0, 1.0) * np.maximum(np.abs(x[LENGTHS]), MIN_LINK)
+    return x
+
+
+def _solve(model, x, budget: int, enough: float):
+    """Least squares in rounds of :data:`ROUND` evaluations, each ending with the links bounded (:func:`_bounded`),
+    until the largest residual is ``enough`` (of the unit size), the budget is spent, or a round gains less than
+    :data:`STALL` asks."""
     used, last = 0, np.inf
     while True:
-        r = least_squares(model.residuals, x, jac=model.jacobian, method=METHOD, bounds=bounds, xtol=1e-15,
+        r = least_squares(model.residuals, x, jac=model.jacobian, method=METHOD, xtol=1e-15,
                           ftol=1e-15, gtol=1e-15, max_nfev=min(ROUND, budget - used), x_scale="jac")
-        x, used = r.x, used + r.nfev
-        worst = float(np.max(np.abs(r.fun)))
+        x, used, fun = _bounded(r.x), used + r.nfev, r.fun
+        if np.any(x != r.x):
+            fun = model.residuals(x)
+        worst = float(np.max(np.abs(fun)))
         if worst <= enough or used >= budget or r.status != 0 or worst > STALL * last:
-            return x, r.fun, used
+            return x, fun, used
         last = worst
 
 
