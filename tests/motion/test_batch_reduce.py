@@ -29,6 +29,13 @@ WATT = Mechanism.build("watt", ["f", "crank", "coupler", "rocker", "l5", "l6"], 
                         Joint("F", "R", ("l5", "l6"), (6.0, 3.0)), Joint("G", "R", ("l6", "f"), (6.5, 0.0))],
                        [Input("A")], points=[CouplerPoint("Q", "l5", (5.0, 3.5))])
 
+# A slider driven along the ground (the P joint S, the input) carries the dyad B–C–D; Q rides on the link l2.
+ACTUATED = Mechanism.build("actuated", ["f", "slider", "l2", "l3"], "f",
+                           [Joint("S", "P", ("f", "slider"), (0.0, 0.0), 0.0, (0.0, 0.0)),
+                            Joint("B", "R", ("slider", "l2"), (0.0, 0.5)), Joint("C", "R", ("l2", "l3"), (2.0, 2.0)),
+                            Joint("D", "R", ("l3", "f"), (3.0, 0.0))],
+                           [Input("S")], points=[CouplerPoint("Q", "l2", (1.0, 2.0))])
+
 
 class PositionsSink(ExtremesSink):
     """The extremes reduced from each chunk's positions (the route without the fused loop)."""
@@ -83,3 +90,20 @@ def test_fused_extremes_equal_the_numpy_route_and_the_positions(mech, outputs, n
 def test_angles_and_derivatives_take_the_general_route():
     assert reduce.spec(Program(Kinematics(FOUR_BAR, ["angle:rocker"]))) is None
     assert reduce.spec(Program(Kinematics(FOUR_BAR, ["point:P"], 1))) is None
+
+
+def test_a_driven_slide_and_its_output_equal_the_numpy_route_and_the_positions():
+    rng = np.random.default_rng(29)
+    coords = {n: np.asarray(at) + rng.uniform(-0.4, 0.4, (60, 2))
+              for n, at in (("B", (0.0, 0.5)), ("C", (2.0, 2.0)), ("D", (3.0, 0.0)), ("Q", (1.0, 2.0)))}
+    qs = np.linspace(-1.0, 1.0, 41)  # slides of S, lengths
+    outputs = ["point:Q", "slide:S"]
+    prog = Program(Kinematics(ACTUATED, outputs))
+    assert reduce.spec(prog) is not None
+    size = _sizes(prog.geometry(coords, None), 60)
+    runs = {name: batch(ACTUATED, coords, qs, outputs=outputs, sink=sink, route=route, chunk=25)
+            for name, sink, route in (("numpy", ExtremesSink(), "numpy"), ("fused", ExtremesSink(), "numba"),
+                                      ("positions", PositionsSink(), "numba"))}
+    assert runs["fused"].counts == runs["numpy"].counts and runs["fused"].counts.get("limit")
+    _compare(runs["fused"].result, runs["numpy"].result, size, exact=False)
+    _compare(runs["fused"].result, runs["positions"].result, size, exact=True)

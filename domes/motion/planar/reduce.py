@@ -5,9 +5,13 @@ the smallest and largest value of each output over the inputs and the
 status the batch reports. On the compiled route a chunk is otherwise placed
 into arrays of every configuration (:func:`~domes.motion.planar.compiled.run`),
 finished into outputs and masks, and reduced in a third pass; here one loop
-(:func:`extremes`) places each mechanism at each input with the same closed
-forms, in a few local variables, and keeps the running extremes, the
-limit/undetermined flags, the smallest dyad root and the largest closure. It
+(:func:`extremes`) places each mechanism at all the inputs with the same closed
+forms, in a few rows reused from one mechanism to the next, and keeps its
+extremes, the limit/undetermined flags, the smallest dyad root and the largest
+closure. Each dyad is placed in short passes over the inputs (the distances
+and their roots, the flags, the transmission roots, the points, the rotations'
+norms), so that many inputs' chains of square roots and divisions are in
+flight at once instead of one input's after another. It
 serves tapes of drivers (R or P) and RRR dyads with point and slide outputs
 (the four-bar, six-bars built of RRR dyads such as the Watt); :func:`spec` says None otherwise and the batch takes the
 general route. Both give the same numbers to rounding
@@ -101,9 +105,10 @@ def warm() -> None:
 
 
 def _loop():
-    global _LOOP, _keep
+    global _LOOP, _keep, _keep2
     if _LOOP is None:
         _keep = compiled._jit(_keep)
+        _keep2 = compiled._jit(_keep2)
         _LOOP = compiled._jit(_reduce)
     return _LOOP
 
@@ -112,13 +117,15 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
             minimum, maximum, argmin, argmax, kinds, transmission, residual):  # pragma: no cover - compiled
     slack = 1e-14 * 64
     n, nr, no = qs.size, rows.shape[0], spec.shape[0]
-    turns = np.empty(n, dtype=np.complex128)
+    tc, ts = np.empty(n), np.empty(n)  # the inputs' turns, the same for every mechanism
     for i in range(n):
-        turns[i] = complex(np.cos(qs[i]), np.sin(qs[i]))
-    R = np.empty((nl, n), dtype=np.complex128)  # one mechanism's links at every input: reused, in the cache
-    W = np.empty((nl, n), dtype=np.complex128)
+        tc[i], ts[i] = np.cos(qs[i]), np.sin(qs[i])
+    # one mechanism's links at every input, real and imaginary parts apart (reused, in the cache): each complex
+    # product is written out as numba forms it, (a + ib)(c + id) = (ac − bd) + i(ad + bc), so the bits are the same
+    Rr, Ri, Wr, Wi = np.empty((nl, n)), np.empty((nl, n)), np.empty((nl, n)), np.empty((nl, n))
     S = np.zeros((max(ns, 1), n))
     good = np.empty(n, dtype=np.bool_)
+    sq, sq2 = np.empty(n), np.empty(n)
     nd = 0
     for r in range(nr):
         nd += rows[r, 0] == RRR
@@ -128,40 +135,55 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
     length = np.ones(max(nd, 1))
     for m in range(G.shape[0]):
         g = G[m]
-        limit = undetermined = False
-        for i in range(n):
-            R[0, i], W[0, i] = 1.0, 0.0
-            good[i] = not ambiguous[m]
+        limits = undetermined = 0
+        Rr[0], Ri[0], Wr[0], Wi[0] = 1.0, 0.0, 0.0, 0.0
+        good[:] = not ambiguous[m]
         for r in range(nr):
             op = rows[r, 0]
             if op == DRIVER_R or op == DRIVER_P:
                 link, known, pj, k = rows[r, 1], rows[r, 2], rows[r, 3], rows[r, 4]
-                Rk, Wk, Rn, Wn = R[known], W[known], R[link], W[link]
+                rkr, rki, wkr, wki, rnr, rni, wnr, wni = Rr[known], Ri[known], Wr[known], Wi[known], Rr[link], \
+                    Ri[link], Wr[link], Wi[link]
                 arm = g[pj] - (g[anchors[known]] if anchors[known] >= 0 else 0j)
+                ar, ai = arm.real, arm.imag
                 back = complex(np.cos(drawn[m, k]), -np.sin(drawn[m, k]))
                 x0 = drawn[m, k]
                 fixed_turn = complex(np.cos(x0), np.sin(x0)) * back
                 if op == DRIVER_R:
-                    forward = rows[r, 5] > 0
+                    flip = 1.0 if rows[r, 5] > 0 else -1.0  # backwards: the turn's conjugate
+                    br, bi = back.real, back.imag
                     for i in range(n):
-                        turn = turns[i] * back if k == swept else fixed_turn
-                        Rn[i] = Rk[i] * (turn if forward else turn.conjugate())
-                        Wn[i] = Wk[i] + Rk[i] * arm
+                        if k == swept:
+                            tr, ti = tc[i] * br - ts[i] * bi, (tc[i] * bi + ts[i] * br) * flip
+                        else:
+                            tr, ti = fixed_turn.real, fixed_turn.imag * flip
+                        if known == 0:  # on the ground (R = 1, W = 0): the products are the factors themselves
+                            rnr[i], rni[i], wnr[i], wni[i] = tr, ti, ar, ai
+                        else:
+                            rnr[i] = rkr[i] * tr - rki[i] * ti
+                            rni[i] = rkr[i] * ti + rki[i] * tr
+                            wnr[i] = wkr[i] + (rkr[i] * ar - rki[i] * ai)
+                            wni[i] = wki[i] + (rkr[i] * ai + rki[i] * ar)
                 else:
                     s = rows[r, 6]
                     along = rows[r, 5] * U[m, s]
                     for i in range(n):
                         x = qs[i] if k == swept else x0
                         S[s, i] = x
-                        Rn[i] = Rk[i]
-                        Wn[i] = Wk[i] + Rk[i] * arm + (x - S0[m, s]) * Rk[i] * along
+                        Rk = complex(rkr[i], rki[i])
+                        Wn = complex(wkr[i], wki[i]) + Rk * arm + (x - S0[m, s]) * Rk * along
+                        rnr[i], rni[i], wnr[i], wni[i] = rkr[i], rki[i], Wn.real, Wn.imag
                 continue
             d, l1, l2, ka, kc = rows[r, 1], rows[r, 2], rows[r, 3], rows[r, 4], rows[r, 5]
             a, b, c = g[rows[r, 6]], g[rows[r, 7]], g[rows[r, 8]]
             arm_a = a - (g[anchors[ka]] if anchors[ka] >= 0 else 0j)
             arm_c = c - (g[anchors[kc]] if anchors[kc] >= 0 else 0j)
-            Ra, Wa, Rc, Wc = R[ka], W[ka], R[kc], W[kc]
-            R1, W1, R2, W2 = R[l1], W[l1], R[l2], W[l2]
+            aar, aai, acr, aci = arm_a.real, arm_a.imag, arm_c.real, arm_c.imag
+            rar, rai, war, wai = Rr[ka], Ri[ka], Wr[ka], Wi[ka]
+            rcr, rci, wcr, wci = Rr[kc], Ri[kc], Wr[kc], Wi[kc]
+            r1r, r1i, w1r, w1i = Rr[l1], Ri[l1], Wr[l1], Wi[l1]
+            r2r, r2i, w2r, w2i = Rr[l2], Ri[l2], Wr[l2], Wi[l2]
+            root, gap = roots[d], gaps[d]
             sg = sign[m, d]
             used1, used2 = used[l1], used[l2]
             ba, bc = b - a, b - c
@@ -169,33 +191,65 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
             scale[d] = 2 * l1n * l2n if signed[d] else np.nan  # unsigned: no root
             length[d] = l2n
             dlo, dhi = abs(l1n - l2n), l1n + l2n
-            ia, ic = ba.conjugate(), bc.conjugate()
+            c0 = l1n * l1n
+            c1 = l2n * l2n
+            iar, iai, icr, ici = ba.real, -ba.imag, bc.real, -bc.imag
+            for i in range(n):  # short passes: many inputs' square roots and divisions in flight at once
+                if ka == 0:
+                    Ar, Ai = aar, aai
+                else:
+                    Ar = war[i] + (rar[i] * aar - rai[i] * aai)
+                    Ai = wai[i] + (rar[i] * aai + rai[i] * aar)
+                if kc == 0:
+                    Cr, Ci = acr, aci
+                else:
+                    Cr = wcr[i] + (rcr[i] * acr - rci[i] * aci)
+                    Ci = wci[i] + (rcr[i] * aci + rci[i] * acr)
+                w1r[i], w1i[i], w2r[i], w2i[i] = Ar, Ai, Cr, Ci
+                Dr, Di = Cr - Ar, Ci - Ai
+                dd2 = Dr * Dr + Di * Di
+                sq2[i] = dd2
+                sq[i] = np.sqrt(dd2)
             for i in range(n):
-                A = Wa[i] + Ra[i] * arm_a
-                C = Wc[i] + Rc[i] * arm_c
-                D = C - A
-                dd2 = D.real * D.real + D.imag * D.imag
-                dd = np.sqrt(dd2)
+                dd = sq[i]
                 near = dd - dhi if dd > dhi else dlo - dd
-                if (dd > dhi or dd < dlo) and near > slack * max(max(dd, l1n), l2n):
-                    limit = True
-                    good[i] = False
-                elif dd == 0.0:
-                    undetermined = True
-                    good[i] = False
+                out = ((dd > dhi) | (dd < dlo)) & (near > slack * max(max(dd, l1n), l2n))
+                zero = dd == 0.0
+                limits += out
+                undetermined += zero & ~out
+                good[i] = good[i] & ~(out | zero)
+            for i in range(n):
+                dd = sq[i]
                 prod = max((l1n + dd + l2n) * (l1n + dd - l2n) * (l1n - dd + l2n) * (-l1n + dd + l2n), 0.0)
-                rp = np.sqrt(prod)
-                Bp = A + D * complex(l1n * l1n + dd2 - l2n * l2n, sg * rp) * (0.5 / dd2)
-                roots[d, i] = rp
-                W1[i], W2[i] = A, C
+                root[i] = np.sqrt(prod)
+            for i in range(n):
+                Ar, Ai, Cr, Ci = w1r[i], w1i[i], w2r[i], w2i[i]
+                Dr, Di = Cr - Ar, Ci - Ai
+                dd2 = sq2[i]
+                u, v = c0 + dd2 - c1, sg * root[i]
+                h = 0.5 / dd2
+                Br = Ar + (Dr * u - Di * v) * h
+                Bi = Ai + (Dr * v + Di * u) * h
+                er, ei = Br - Cr, Bi - Ci  # the closure: |C + u2·(b − c) − B| = ||B − C| − l2|
+                gap[i] = er * er + ei * ei
                 if used1:
-                    z1 = (Bp - A) * ia
-                    R1[i] = z1 * (1.0 / np.sqrt(z1.real * z1.real + z1.imag * z1.imag))
+                    er, ei = Br - Ar, Bi - Ai
+                    zr, zi = er * iar - ei * iai, er * iai + ei * iar
+                    sq[i] = zr * zr + zi * zi
+                    r1r[i], r1i[i] = zr, zi
                 if used2:
-                    z2 = (Bp - C) * ic
-                    R2[i] = z2 * (1.0 / np.sqrt(z2.real * z2.real + z2.imag * z2.imag))
-                e = Bp - C  # the closure: how far B lies from the length B–C, |C + u2·(b − c) − B| = ||B − C| − l2|
-                gaps[d, i] = e.real * e.real + e.imag * e.imag
+                    er, ei = Br - Cr, Bi - Ci
+                    zr, zi = er * icr - ei * ici, er * ici + ei * icr
+                    sq2[i] = zr * zr + zi * zi
+                    r2r[i], r2i[i] = zr, zi
+            if used1:
+                for i in range(n):
+                    h1 = 1.0 / np.sqrt(sq[i])
+                    r1r[i], r1i[i] = r1r[i] * h1, r1i[i] * h1
+            if used2:
+                for i in range(n):
+                    h2 = 1.0 / np.sqrt(sq2[i])
+                    r2r[i], r2i[i] = r2r[i] * h2, r2i[i] * h2
         worst = np.inf  # the smallest root rp / (2·l1·l2) over the good inputs: the smallest rp, divided once
         closure = 0.0
         for k in range(nd):
@@ -219,34 +273,35 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
             if spec[j, 0] == 0:
                 link = spec[j, 1]
                 rel = g[spec[j, 2]] - (g[anchors[link]] if anchors[link] >= 0 else 0j)
-                _keep(W[link], R[link], rel, good, 0, minimum, maximum, argmin, argmax, col, lo + m)
-                _keep(W[link], R[link], rel, good, 1, minimum, maximum, argmin, argmax, col + 1, lo + m)
+                _keep2(Wr[link], Wi[link], Rr[link], Ri[link], rel.real, rel.imag, good, sq, sq2, minimum, maximum,
+                       argmin, argmax, col, lo + m)
                 col += 2
             else:
-                _keep(S[spec[j, 1]], S[spec[j, 1]], 0.0, good, 2, minimum, maximum, argmin, argmax, col, lo + m)
+                _keep(S[spec[j, 1]], good, minimum, maximum, argmin, argmax, col, lo + m)
                 col += 1
-        kinds[lo + m] = 3 if ambiguous[m] else 2 if undetermined else 1 if limit else 0
+        kinds[lo + m] = 3 if ambiguous[m] else 2 if undetermined else 1 if limits else 0
         transmission[lo + m] = worst if np.isfinite(worst) else np.nan
         residual[lo + m] = closure / size[m]
 
 
-def _keep(W, R, rel, good, part, minimum, maximum, argmin, argmax, col, m):  # pragma: no cover - compiled
-    """Row ``m``'s extremes of column ``col`` over the good inputs (the first index on a tie): of the point
-    ``W + R·rel``'s x (``part`` 0) or y (1), or of ``W`` itself (2, a slide)."""
+def _keep(x, good, minimum, maximum, argmin, argmax, col, m):  # pragma: no cover - compiled
+    """Row ``m``'s extremes of column ``col``: of the values ``x`` over the good inputs (the first index on a tie)."""
     kmin = kmax = -1
     vmin = vmax = np.nan
     for i in range(good.size):
-        if not good[i]:
-            continue
-        if part == 2:
-            x = W[i].real
-        else:
-            X = W[i] + R[i] * rel
-            x = X.real if part == 0 else X.imag
-        if x != x:
-            continue
-        if kmin < 0 or x < vmin:
-            kmin, vmin = i, x
-        if kmax < 0 or x > vmax:
-            kmax, vmax = i, x
+        if good[i] and x[i] == x[i]:
+            if kmin < 0 or x[i] < vmin:
+                kmin, vmin = i, x[i]
+            if kmax < 0 or x[i] > vmax:
+                kmax, vmax = i, x[i]
     minimum[col, m], maximum[col, m], argmin[col, m], argmax[col, m] = vmin, vmax, kmin, kmax
+
+
+def _keep2(Wr, Wi, Rr, Ri, pr, pi, good, ax, ay, minimum, maximum, argmin, argmax, col, m):  # pragma: no cover
+    """Row ``m``'s extremes of columns ``col`` and ``col + 1``: the x and y of the point ``W + R·p`` (placed in
+    ``ax``, ``ay`` first, in one pass without branches)."""
+    for i in range(good.size):
+        ax[i] = Wr[i] + (Rr[i] * pr - Ri[i] * pi)
+        ay[i] = Wi[i] + (Rr[i] * pi + Ri[i] * pr)
+    _keep(ax, good, minimum, maximum, argmin, argmax, col, m)
+    _keep(ay, good, minimum, maximum, argmin, argmax, col + 1, m)
