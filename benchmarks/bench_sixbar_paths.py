@@ -1,6 +1,7 @@
 """Six-bar round trip: curves of random Watt and Stephenson six-bars matched back (issue 27, item 2).
 
-Run ``python benchmarks/bench_sixbar_paths.py`` (``--cases N``, ``--seed S``, ``--clock cpu``). Each case is a
+Run ``python benchmarks/bench_sixbar_paths.py`` (``--cases N``, ``--seed S``, ``--clock cpu``; ``--only 5,7`` runs
+those cases alone). Each case is a
 six-bar drawn from the design space of ``domes.motion.coupler.sixbar.sample`` (Watt and Stephenson in turn; a
 seeded stream other than the atlas's, so random lengths, not atlas points) whose crank turns fully, traced at 64
 equal crank steps from a random start, then scaled (0.1–10), turned, moved and, half the time, mirrored. The
@@ -44,6 +45,8 @@ def main() -> int:
     parser.add_argument("--fourbars", type=int, default=10, help="random four-bar curves (default 10)")
     parser.add_argument("--seed", type=int, default=27, help="the random stream (default 27)")
     parser.add_argument("--clock", choices=("cpu", "wall"), default="cpu", help="time measured (default cpu)")
+    parser.add_argument("--only", type=lambda t: {int(k) for k in t.split(",")}, default=None,
+                        help="run only these cases, comma-separated (the stream is drawn as for all of them)")
     args = parser.parse_args()
 
     from domes.execution.threads import limited_threads
@@ -63,6 +66,8 @@ def main() -> int:
         for k in range(args.cases):
             kind = ("watt", "stephenson")[k % 2]
             points = planted(kind, rng)
+            if args.only is not None and k not in args.only:
+                continue
             t = clock()
             result = match(points, atlas, results=1, tol=TOL, sixbars="auto", sixatlas=six)
             times.append(clock() - t)
@@ -71,7 +76,10 @@ def main() -> int:
             hits += err <= TOL
             worst.append(err)
             print(f"{k:4d}  {kind:10s}  {kind_of(f) if f else '-':22s}  {err:12.3g}  {times[-1]:6.1f}", flush=True)
-        print(f"# recovered within {TOL:g} of the size: {hits} of {args.cases} ({100 * hits / max(args.cases, 1):.0f}%);"
+        run = len(times)
+        if not run:
+            parser.error(f"--only names no case below --cases {args.cases}")
+        print(f"# recovered within {TOL:g} of the size: {hits} of {run} ({100 * hits / max(run, 1):.0f}%);"
               f" time per curve ({args.clock}) median {statistics.median(times):.1f} s, mean "
               f"{statistics.mean(times):.1f} s, max {max(times):.1f} s")
         missed = sorted(e for e in worst if e > TOL)

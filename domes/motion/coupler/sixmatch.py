@@ -30,8 +30,10 @@ from domes.motion.coupler.sixfit import SixFit, sixfit
 CANDIDATES = 24
 #: Evaluations of each candidate's short fit.
 QUICK = 12
-#: Candidates refined fully at most (the best of the short fits first).
-REFINED = 6
+#: Candidates refined fully at most (the best of the short fits first; the refinement stops at the first fit, so
+#: only a path none of the first few fits goes further down the list: a Stephenson curve's nearest candidates
+#: often end in a minimum near it).
+REFINED = 12
 #: Fits whose frame pivots and link lengths agree to this fraction of the path's size are one linkage.
 SAME = 1e-3
 
