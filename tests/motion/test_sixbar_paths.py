@@ -112,3 +112,24 @@ def test_the_command_line_answers_a_six_bar_curve_with_its_type(atlases, capsys,
     assert "Linkages for a wanted path" in html and "Four-bars for" not in html and "Watt I six-bar" in html
     assert main(args + ["--six-bars", "yes", "--drawn"]) == 2
     assert "paths drawn by hand" in capsys.readouterr().err
+
+
+def test_the_six_bar_atlas_file_round_trips_and_a_damaged_one_is_refused(tmp_path, atlases):
+    from domes.io.sixatlas import FIELDS, load_sixatlas, save_sixatlas
+
+    six = atlases[1]
+    path = tmp_path / "six.npz"
+    save_sixatlas(six, path)
+    again = load_sixatlas(path)
+    assert all(np.array_equal(getattr(again, name), getattr(six, name)) for name in FIELDS)
+    assert [p.name for p in tmp_path.iterdir()] == ["six.npz"]       # no temporary file left beside it
+    arrays = {name: getattr(six, name) for name in FIELDS}
+    np.savez(path, **{**arrays, "row_mode": arrays["row_mode"][:-1]})
+    with pytest.raises(InputError, match=f"row_mode has {six.count - 1} rows, not {six.count}"):
+        load_sixatlas(path)
+    np.savez(path, **{**arrays, "row_bar": arrays["row_bar"] + len(arrays["lengths"])})
+    with pytest.raises(InputError, match="names a six-bar that is not there"):
+        load_sixatlas(path)
+    path.write_text("not an atlas")
+    with pytest.raises(InputError, match="not a six-bar atlas"):
+        load_sixatlas(path)

@@ -19,14 +19,11 @@ True
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from scipy.spatial import cKDTree
 
-from domes.errors import InputError
 from domes.motion.coupler.atlas import RESAMPLE, descriptors, resample_closed
 from domes.motion.coupler.fourier import HARMONICS, describe, variants
 from domes.motion.coupler.sixbar import KINDS, SixBar, sample
@@ -109,22 +106,6 @@ class SixAtlas:
                     best[key] = (float(dd), int(ii))
         rows = sorted(best.values())[:k]
         return [SixCandidate(i, d, self.sixbar(i)) for d, i in rows]
-
-    def save(self, path) -> None:
-        """Write the atlas to ``path`` (NumPy ``.npz``), atomically."""
-        path = Path(path)
-        tmp = path.with_name(f".{path.stem}-{os.getpid()}.npz")
-        np.savez_compressed(tmp, kinds=self.kinds, lengths=self.lengths, row_bar=self.row_bar,
-                            row_mode=self.row_mode, row_point=self.row_point, features=self.features)
-        os.replace(tmp, path)
-
-    @classmethod
-    def load(cls, path) -> "SixAtlas":
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                return cls(*(data[n] for n in ("kinds", "lengths", "row_bar", "row_mode", "row_point", "features")))
-        except (OSError, KeyError, ValueError) as exc:
-            raise InputError(f"{path}: not a six-bar atlas ({exc}); delete it to build it again") from None
 
 
 _CACHE: dict[int, SixAtlas] = {}
