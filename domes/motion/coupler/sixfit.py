@@ -35,11 +35,11 @@ from scipy.optimize import least_squares
 
 from domes.errors import InputError
 from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism
-from domes.motion.coupler.fit import MAX_POINTS, MIN_LINK, _correspond, _spread, check_wanted
+from domes.motion.coupler.fit import MAX_POINTS, MIN_LINK, Fit, _correspond, _spread, check_wanted
 from domes.motion.coupler.sixbar import KINDS, LINKS, SixBar, circle_meet
 from domes.motion.planar.kernel import Program
 from domes.motion.planar.query import Kinematics
-from domes.results import Result, Status
+from domes.results import Status
 
 #: Crank angles a candidate is traced at, to correspond it with the path.
 TRACE = 720
@@ -57,28 +57,14 @@ LENGTHS = [0, 1, 2, 3, 6, 7]
 
 
 @dataclass(frozen=True, eq=False)
-class SixFit(Result):
+class SixFit(Fit):
     """A six-bar fitted to a wanted path: the linkage placed in the path's frame (joints ``A``-``G``, the
-    tracing point ``P`` on link ``E F``), its type, its link lengths ``(a, b, c, d, e, f)``, ``E``'s place ``(p, q)``
-    on its link and ``P``'s ``(u, v)`` on ``E F`` (the path's units), and the (largest, RMS) distance from the
-    wanted points to its curve before and after refinement."""
+    tracing point ``P`` on link ``E F``), its ``kind``, its link lengths ``(a, b, c, d, e, f)``, ``E``'s place
+    ``ternary = (p, q)`` on its link and ``P``'s ``coupler = (u, v)`` on ``E F`` (the path's units); the rest as
+    for a four-bar's :class:`~domes.motion.coupler.fit.Fit`."""
 
-    mechanism: Mechanism | None
-    kind: str
-    lengths: tuple
-    ternary: tuple
-    coupler: tuple
-    before: tuple
-    after: tuple
-    size: float
-    tol: float
-    evaluations: int
-    status: Status
-    note: str = ""
-
-    @property
-    def success(self) -> bool:
-        return self.status is Status.COMPLETE and self.after[0] <= self.tol * self.size
+    kind: str = ""
+    ternary: tuple = ()
 
     @property
     def message(self) -> str:
@@ -269,8 +255,8 @@ def sixfit(points, candidate: SixBar, tol: float = 1e-6, max_nfev: int = 400, qu
         except InputError as exc:
             after, status = _errors(fun, size), Status.STOPPED
             note = f"the fitted linkage could not be placed: {exc}"
-    return SixFit(mech, KINDS[kind], (a, b, c, d, e, f), (p, q), (u, v), before, after, size, tol,
-                  nfev, status, note)
+    return SixFit(mech, (a, b, c, d, e, f), (u, v), before, after, size, tol, nfev, status, note,
+                  kind=KINDS[kind], ternary=(p, q))
 
 
 def _bounded(x):
