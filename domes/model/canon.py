@@ -88,23 +88,33 @@ class Automorphisms:
         ...     combinations(range(4), 2))
         [(0, 1), (0, 2)]
         """
-        pairs = [tuple(sorted(p)) for p in pairs]
-        parent = {p: p for p in pairs}
+        return pair_orbits([tuple(sorted(p)) for p in pairs], self.generators)
 
-        def find(p: Edge) -> Edge:
-            while parent[p] != p:
-                parent[p] = parent[parent[p]]
-                p = parent[p]
-            return p
 
-        for perm in self.generators:
-            for u, v in pairs:
-                image = (perm[u], perm[v]) if perm[u] < perm[v] else (perm[v], perm[u])
-                if image in parent:
-                    a, b = find((u, v)), find(image)
-                    if a != b:
-                        parent[max(a, b)] = min(a, b)
-        return sorted({find(p) for p in pairs})
+def pair_orbits(pairs: Iterable[Edge], generators) -> list[Edge]:
+    """The least pair of each orbit of the group of ``generators`` (permutations of the links) on ``pairs``
+    (each ``(u, v)`` with ``u < v``; a union of orbits), sorted.
+
+    >>> pair_orbits([(0, 1), (1, 2), (2, 3), (0, 3)], [(1, 2, 3, 0)])      # a square turned by a quarter
+    [(0, 1)]
+    """
+    pairs = list(pairs)
+    parent = {p: p for p in pairs}
+
+    def find(p: Edge) -> Edge:
+        while parent[p] != p:
+            parent[p] = parent[parent[p]]
+            p = parent[p]
+        return p
+
+    for perm in generators:
+        for u, v in pairs:
+            image = (perm[u], perm[v]) if perm[u] < perm[v] else (perm[v], perm[u])
+            if image in parent:
+                a, b = find((u, v)), find(image)
+                if a != b:
+                    parent[max(a, b)] = min(a, b)
+    return sorted({find(p) for p in pairs})
 
 
 def automorphisms(n: int, edges: Iterable[Edge], coloring: Sequence[set[int]] = ()) -> Automorphisms:

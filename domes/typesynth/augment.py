@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pynauty
 
-from domes.model.canon import nauty
+from domes.model.canon import nauty, pair_orbits
 from domes.model.pebble import encode_graph6
 from domes.typesynth import earkernel
 
@@ -563,35 +563,11 @@ def _pairs(parent: _Parent, ks: list[int], stats: Stats | None):
     generators = nauty(pynauty.autgrp, _nauty_graph(n, parent.edges))[0]
     if stats is not None:
         stats.nauty_calls += 1
-    reps = _pair_orbits(union, generators)
+    reps = pair_orbits(union, generators) if generators else sorted(union)
     for k in ks:
         if k in wanted:
             pairs = wanted[k]
             yield from ((k, u, v) for u, v in reps if (u, v) in pairs)
-
-
-def _pair_orbits(pairs: set[Edge], generators) -> list[Edge]:
-    """The least pair of each orbit of the group of ``generators`` on ``pairs`` (closed under it), sorted."""
-    if not generators:
-        return sorted(pairs)
-    parent = {p: p for p in pairs}
-
-    def find(p: Edge) -> Edge:
-        while parent[p] != p:
-            parent[p] = parent[parent[p]]
-            p = parent[p]
-        return p
-
-    for perm in generators:
-        for u, v in pairs:
-            a, b = perm[u], perm[v]
-            a, b = find((u, v)), find((a, b) if a < b else (b, a))
-            if a != b:
-                if a < b:
-                    parent[b] = a
-                else:
-                    parent[a] = b
-    return sorted({find(p) for p in pairs})
 
 
 def children(parent: Graph, k: int, stats: Stats | None = None):
