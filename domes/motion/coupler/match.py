@@ -173,13 +173,15 @@ def _on_one_line(target, size: float) -> bool:
 SAME = 1e-3
 
 
-def _merge(fits: list[Fit], size: float):
-    """The fits that are distinct linkages, and per each the fits merged into it with how they relate."""
+def _merge(fits: list[Fit], size: float, related=None):
+    """The fits that are distinct linkages, and per each the fits merged into it with how they relate
+    (``related(kept, fit, tol)``: why ``fit`` repeats ``kept``, or ""; four-bars' :func:`relation` by default)."""
+    related = related or relation
     kept: list[Fit] = []
     merged: list[list[tuple[Fit, str]]] = []
     for f in fits:
         for k, g in enumerate(kept):
-            why = relation(g, f, SAME * size)
+            why = related(g, f, SAME * size)
             if why:
                 merged[k].append((f, why))
                 break

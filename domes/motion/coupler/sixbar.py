@@ -100,14 +100,20 @@ class SixBar:
         at, ok = self.joints(np.array([theta]))
         if not ok[0]:
             raise InputError(f"the {KINDS[self.kind]} does not assemble at crank angle {theta:g}")
-        xy = {k: (float(place(z[0]).real), float(place(z[0]).imag)) for k, z in at.items()}
-        carrier = "coupler" if self.kind == "stephenson" else "rocker"
-        joints = [Joint("A", "R", ("frame", "crank"), xy["A"]), Joint("B", "R", ("crank", "coupler"), xy["B"]),
-                  Joint("C", "R", ("coupler", "rocker"), xy["C"]), Joint("D", "R", ("rocker", "frame"), xy["D"]),
-                  Joint("E", "R", (carrier, "tracer"), xy["E"]), Joint("F", "R", ("tracer", "link"), xy["F"]),
-                  Joint("G", "R", ("link", "frame"), xy["G"])]
-        return Mechanism.build(f"fitted {KINDS[self.kind]}", list(LINKS), "frame", joints, [Input("A")],
-                               points=[CouplerPoint("P", "tracer", xy["P"])])
+        return drawn_mechanism(self.kind, {k: complex(place(z[0])) for k, z in at.items()})
+
+
+def drawn_mechanism(kind: str, at: dict) -> Mechanism:
+    """The six-bar of ``kind`` drawn with its joints ``A``-``G`` and tracing point ``P`` at the places ``at``
+    (complex)."""
+    xy = {k: (float(z.real), float(z.imag)) for k, z in at.items()}
+    carrier = "coupler" if kind == "stephenson" else "rocker"
+    joints = [Joint("A", "R", ("frame", "crank"), xy["A"]), Joint("B", "R", ("crank", "coupler"), xy["B"]),
+              Joint("C", "R", ("coupler", "rocker"), xy["C"]), Joint("D", "R", ("rocker", "frame"), xy["D"]),
+              Joint("E", "R", (carrier, "tracer"), xy["E"]), Joint("F", "R", ("tracer", "link"), xy["F"]),
+              Joint("G", "R", ("link", "frame"), xy["G"])]
+    return Mechanism.build(f"fitted {KINDS[kind]}", list(LINKS), "frame", joints, [Input("A")],
+                           points=[CouplerPoint("P", "tracer", xy["P"])])
 
 
 def sample(kind: str, rng: np.random.Generator, margin: float = 0.05, tries: int = 1000) -> SixBar:

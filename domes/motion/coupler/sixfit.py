@@ -34,9 +34,9 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from domes.errors import InputError
-from domes.model.mechanism import CouplerPoint, Input, Joint, Mechanism
+from domes.model.mechanism import Mechanism
 from domes.motion.coupler.fit import MAX_POINTS, MIN_LINK, Fit, _correspond, _spread, check_wanted
-from domes.motion.coupler.sixbar import KINDS, LINKS, SixBar, circle_meet
+from domes.motion.coupler.sixbar import KINDS, SixBar, circle_meet, drawn_mechanism
 from domes.motion.planar.kernel import Program
 from domes.motion.planar.query import Kinematics
 from domes.results import Status
@@ -296,15 +296,8 @@ def _world(model, x, size, centre, z):
 
 def _mechanism(model: SixModel, x, size, centre) -> Mechanism:
     """The fitted six-bar in the path's frame, drawn at the first point's pose (its loops closed by the kernel)."""
-    at = {k: complex(_world(model, x, size, centre, z)[0]) for k, z in model.joints(x).items()}
-    xy = {k: (z.real, z.imag) for k, z in at.items()}
-    carrier = "coupler" if model.kind == "stephenson" else "rocker"
-    joints = [Joint("A", "R", ("frame", "crank"), xy["A"]), Joint("B", "R", ("crank", "coupler"), xy["B"]),
-              Joint("C", "R", ("coupler", "rocker"), xy["C"]), Joint("D", "R", ("rocker", "frame"), xy["D"]),
-              Joint("E", "R", (carrier, "tracer"), xy["E"]), Joint("F", "R", ("tracer", "link"), xy["F"]),
-              Joint("G", "R", ("link", "frame"), xy["G"])]
-    return Mechanism.build(f"fitted {KINDS[model.kind]}", list(LINKS), "frame", joints, [Input("A")],
-                           points=[CouplerPoint("P", "tracer", xy["P"])])
+    return drawn_mechanism(model.kind, {k: complex(_world(model, x, size, centre, z)[0])
+                                        for k, z in model.joints(x).items()})
 
 
 def _verify(mech, model, x, size, centre, target) -> tuple[float, float]:

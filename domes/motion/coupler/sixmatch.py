@@ -23,6 +23,7 @@ from __future__ import annotations
 import numpy as np
 
 from domes.errors import InputError
+from domes.motion.coupler.match import _merge
 from domes.motion.coupler.sixatlas import SixAtlas
 from domes.motion.coupler.sixfit import SixFit, sixfit
 
@@ -34,8 +35,6 @@ QUICK = 12
 #: only a path none of the first few fits goes further down the list: a Stephenson curve's nearest candidates
 #: often end in a minimum near it).
 REFINED = 12
-#: Fits whose frame pivots and link lengths agree to this fraction of the path's size are one linkage.
-SAME = 1e-3
 
 
 def match_sixbars(points, atlas: SixAtlas, results: int = 1, tol: float = 1e-6, candidates: int = CANDIDATES,
@@ -58,16 +57,7 @@ def match_sixbars(points, atlas: SixAtlas, results: int = 1, tol: float = 1e-6, 
         if sum(g.success for g in fits) >= results:
             break
     fits.sort(key=lambda f: (not f.success, f.mechanism is None, f.after[0]))
-    kept, merged = [], []
-    for f in fits:
-        for k, g in enumerate(kept):
-            why = relation(g, f, SAME * f.size)
-            if why:
-                merged[k].append((f, why))
-                break
-        else:
-            kept.append(f)
-            merged.append([])
+    kept, merged = _merge(fits, fits[0].size, relation) if fits else ([], [])
     shown = max(results, sum(f.success for f in kept))          # every fit, else the nearest ``results``
     return kept[:shown], merged[:shown], len(quick)
 
