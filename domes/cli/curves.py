@@ -103,7 +103,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=f"atlas candidates refined at most (default {CANDIDATES}; with --drawn, where each one is "
                    f"fitted, {DRAWN_CANDIDATES})")
     q.add_argument("--tol", type=float, default=None,
-                   help="largest distance accepted, relative to the path's size (default 1e-6; open paths 1e-3)")
+                   help="largest distance accepted, relative to the path's size (default 1e-6; open paths 1e-3; "
+                   "six-bars 1e-4)")
     q.add_argument("--six-bars", choices=("no", "auto", "yes"), default="no", dest="six_bars",
                    help="also fit Watt and Stephenson six-bars to a closed path: auto when no four-bar fits within "
                    "the tolerance, yes always (default no; the six-bar atlas is built in your data folder the first "

@@ -41,9 +41,11 @@ def test_a_planted_six_bar_curve_is_recovered(atlases, kind):
     planted = SixBar(kind, tuple(np.asarray(near.lengths) * (1 + 0.01 * np.cos(np.arange(12)))), near.modes)
     assert np.all(np.isfinite(planted.curve(theta))), "the planted six-bar turns fully"
     points = _placed(planted.curve(theta))
-    result = match(points, four, results=1, candidates=2, tol=1e-4, sixbars="auto", sixatlas=six)
+    # no tolerance given: four-bars are judged at 1e-6, six-bars at their default, 1e-4, and the answer says so
+    result = match(points, four, results=1, candidates=2, sixbars="auto", sixatlas=six)
     best = result.fits[0]
     assert best.success and kind_of(best) != "four-bar", result.message
+    assert best.tol == 1e-4 and "within 1e-06 (six-bars 0.0001) of the path's size" in result.message
     assert best.after[0] <= 1e-4 * result.size
     # independently of the fit's own measure: every point lies on the curve traced from the returned linkage
     assert _traced_distance(best.mechanism, points) <= 2e-3 * result.size

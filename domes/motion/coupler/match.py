@@ -38,7 +38,9 @@ CANDIDATES = 30
 #: The default tolerance, relative to the path's size: a closed path is matched exactly (to round-off of the
 #: fit); an open stretch constrains a four-bar weakly (a near-degenerate family of linkages passes close to a
 #: short arc), so its refinement converges slowly past about 1e-4 and the default asks 1e-3 (docs/curves.md).
-TOL = {"closed": 1e-6, "open": 1e-3}
+#: A six-bar's twelve dimensions converge slowly near a fit too: unless a tolerance is given, six-bars are judged at
+#: 1e-4, the level the six-bar round trip measures (a fit to 1e-6 would refine every candidate, a minute or more).
+TOL = {"closed": 1e-6, "open": 1e-3, "six-bar": 1e-4}
 #: When six-bars are tried too: never, when no four-bar fits within the tolerance, or always (closed paths only;
 #: :mod:`domes.motion.coupler.sixmatch`).
 SIXBARS = ("no", "auto", "yes")
@@ -60,6 +62,7 @@ class Matching(Listing):
     tol: float
     note: str = ""
     merged: tuple[tuple[tuple[Fit, str], ...], ...] = ()     # per fit: the fits merged into it, and how they relate
+    six_tol: float | None = None                              # six-bars' tolerance, when they were fitted to another
     items_field = "fits"
 
     @property
@@ -74,7 +77,8 @@ class Matching(Listing):
             best = f"best: {kind_of(self.fits[0])}, largest distance {self.fits[0].after[0]:.3g}"
         same = sum(len(m) for m in self.merged)
         same = f"; {same} merged into the linkage they repeat (same linkage, cognate or mirror)" if same else ""
-        return (f"{self.status}: {good} of {self.tried} candidates fit within {self.tol:g} of the path's size "
+        within = f"{self.tol:g}" + (f" (six-bars {self.six_tol:g})" if self.six_tol not in (None, self.tol) else "")
+        return (f"{self.status}: {good} of {self.tried} candidates fit within {within} of the path's size "
                 f"{self.size:.4g} ({best}{same}); look-up {self.lookup_seconds * 1e3:.1f} ms, "
                 f"refinement {self.refine_seconds:.2f} s" + (f"; {self.note}" if self.note else ""))
 
@@ -99,6 +103,7 @@ def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = 
         raise InputError("six-bars are matched to closed paths only; leave out the six-bars or the open path")
     if sixbars == "auto":
         candidates = min(candidates, AUTO_FOURBARS)
+    six_tol = TOL["six-bar"] if tol is None else tol
     if tol is None:
         tol = TOL["open" if isinstance(atlas, OpenAtlas) else "closed"]
     if not tol > 0:
@@ -141,16 +146,18 @@ def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = 
         shown += 1
     note = "; ".join(n for n in (resampled_note(len(target)), line) if n)
     kept, merged = kept[:max(shown, 1)], [tuple(m) for m in merged[:max(shown, 1)]]
-    if sixbars == "yes" or (sixbars == "auto" and not any(f.success for f in kept)):
+    six_fitted = sixbars == "yes" or (sixbars == "auto" and not any(f.success for f in kept))
+    if six_fitted:
         from domes.motion.coupler.sixatlas import built
         from domes.motion.coupler.sixmatch import match_sixbars
 
         clock.tick(lambda: "fitting six-bars")
-        six, six_merged, six_tried = match_sixbars(target, sixatlas or built(), results, tol)
+        six, six_merged, six_tried = match_sixbars(target, sixatlas or built(), results, six_tol)
         tried += six_tried
         order = sorted(range(len(kept) + len(six)), key=lambda k: _rank((kept + six)[k]))
         kept, merged = [(kept + six)[k] for k in order], [(merged + [tuple(m) for m in six_merged])[k] for k in order]
-    return Matching(tuple(kept), tried, t1 - t0, time.perf_counter() - t1, size, tol, note, tuple(merged))
+    return Matching(tuple(kept), tried, t1 - t0, time.perf_counter() - t1, size, tol, note, tuple(merged),
+                    six_tol if six_fitted else None)
 
 
 def kind_of(f) -> str:
