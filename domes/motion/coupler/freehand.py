@@ -321,7 +321,7 @@ def match_drawn(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: 
     if plan is not None:
         timed = _timed(sketch, plan, atlas, found, tol, clock)
         return DrawnMatching(tuple(timed[:results]), len(found), t1 - t0, time.perf_counter() - t1, sketch.size, tol,
-                             _reading(sketch, plan.timing, noise), (), sketch)
+                             note=_reading(sketch, plan.timing, noise), sketch=sketch)
     fits: list[Fit] = []
     tried = 0
     for cand in found:
@@ -343,7 +343,8 @@ def match_drawn(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: 
         count += 1 + len(merged[shown])
         shown += 1
     return DrawnMatching(tuple(kept[:max(shown, 1)]), tried, t1 - t0, time.perf_counter() - t1, sketch.size, tol,
-                         _reading(sketch), tuple(tuple(m) for m in merged[:max(shown, 1)]), sketch)
+                         note=_reading(sketch), merged=tuple(tuple(m) for m in merged[:max(shown, 1)]),
+                         sketch=sketch)
 
 
 def _timed(sketch: Drawn, plan: Schedule, atlas, found, tol: float, clock: Ticker) -> list[TimedFit]:

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
@@ -60,6 +60,7 @@ class Matching(Listing):
     refine_seconds: float
     size: float
     tol: float
+    _: KW_ONLY                                                # the rest by name: subclasses add fields of their own
     note: str = ""
     merged: tuple[tuple[tuple[Fit, str], ...], ...] = ()     # per fit: the fits merged into it, and how they relate
     six_tol: float | None = None                              # six-bars' tolerance, when they were fitted to another
@@ -156,8 +157,8 @@ def match(points, atlas: Atlas | OpenAtlas, results: int = 3, candidates: int = 
         tried += six_tried
         order = sorted(range(len(kept) + len(six)), key=lambda k: _rank((kept + six)[k]))
         kept, merged = [(kept + six)[k] for k in order], [(merged + [tuple(m) for m in six_merged])[k] for k in order]
-    return Matching(tuple(kept), tried, t1 - t0, time.perf_counter() - t1, size, tol, note, tuple(merged),
-                    six_tol if six_fitted else None)
+    return Matching(tuple(kept), tried, t1 - t0, time.perf_counter() - t1, size, tol, note=note,
+                    merged=tuple(merged), six_tol=six_tol if six_fitted else None)
 
 
 def kind_of(f) -> str:
