@@ -8,8 +8,12 @@ the sweep is first tried here: the placements
 for the continuous angles (numpy's ``unwrap``), the jump and branch-point
 tests, and, a block of configurations at a time, the loop equations of
 every dyad (the segment sums of
-:func:`~domes.motion.planar.structure.evaluate`) for residuals, condition
-numbers, velocities, accelerations and the outputs. The loops read a
+:func:`~domes.motion.planar.structure.evaluate`, ``A = Σ w`` with ``w`` a
+segment's length times its unit, or its slide times its unit) for residuals
+and condition numbers, and their time derivatives in complex form
+(``Ȧ = Σ iwΔ̇``, ``Ä = Σ (iwΔ̈ − wΔ̇²)`` and the slides' terms), the two
+unknowns' rates set to zero giving the rest of the loop's and the 2×2
+Jacobian solving for them, then the outputs. The loops read a
 *program* of integer and float rows made once per query and kept on it
 (:meth:`Pass.of`), with work arrays kept for the next sweep of the same size.
 
@@ -37,7 +41,7 @@ import numpy as np
 from domes.motion.planar import compiled
 from domes.motion.planar.arrays import Compiled
 from domes.motion.planar.branches import ROOT_FLOOR
-from domes.motion.planar.query import JUMP, SINGULAR_CONDITION, error_bounds
+from domes.motion.planar.query import EPS, JUMP, SINGULAR_CONDITION
 from domes.results import Status, Ticker
 
 __all__ = ["Pass", "sweep"]
@@ -131,6 +135,15 @@ class Pass:
         self.seg_link = np.array([turning.get(seg.rotation, -1) for seg, _ in segs], dtype=np.int64)
         self.seg_u = np.array([complex(math.cos(seg.alpha), math.sin(seg.alpha)) for seg, _ in segs], dtype=complex)
         self.groups = np.array([(lo, hi, vi[u[0]], vi[u[1]]) for lo, hi, u in grows], dtype=np.int64).reshape(-1, 4)
+        # ∂Δ/∂v of each loop segment for its group's unknowns v, and the slide's sign where v is the segment's slide
+        self.seg_du = np.zeros((len(segs), 4))
+        for lo, hi, u in grows:
+            for t in range(lo, hi):
+                seg, e = segs[t]
+                for c, v in enumerate(u):
+                    self.seg_du[t, c] = sum(k for w, k in exprs[e].terms if w == v)
+                    self.seg_du[t, 2 + c] = seg.sign if seg.kind != "link" and seg.slide == v else 0.0
+        self.complete = all(np.any(self.seg_du[lo:hi, [c, 2 + c]]) for lo, hi, _ in grows for c in range(2))
         self.gscale = np.array([[1.0 / kin.size if v.startswith("rot:") else 1.0 for v in u] for *_, u in grows],
                                dtype=float).reshape(-1, 2)
         self.values_i = np.array([(kind, vi[v], at, e) for (kind, v, at, e), _ in values],
@@ -174,32 +187,28 @@ class Pass:
         self.sign = row([geom.sign.get(i, 1.0) for i in tape.dyads], 1.0, float)
         self.k_swept = tape.inputs.index(self.joint)
 
-    def borrow(self, n: int, nk: int) -> tuple:
-        """Work arrays for a walk of ``n`` points keeping ``nk``: a sweep's arrays again when the last sweep of this
-        size has given them back (fresh pages cost more than the pass), else new ones."""
-        key = (n, max(min(nk, BLOCK), 1))
+    def borrow(self, n: int) -> tuple:
+        """Work arrays for a walk of ``n`` points: a sweep's arrays again when the last sweep of this size has given
+        them back (fresh pages cost more than the pass), else new ones."""
         while self._spare:
             try:
                 size, work = self._spare.pop()
             except IndexError:  # another thread took it
                 break
-            if size == key:
+            if size == n:
                 return work
         nl, nd, ns, nv = len(self.tape.links), len(self.tape.dyads), len(self.tape.slides), len(self.names)
-        width = key[1]
-        rows = (nv, width)
         R, W = np.empty((nl, 1, n), dtype=complex), np.empty((nl, 1, n), dtype=complex)
         R[0], W[0] = 1.0, 0.0  # the ground (the placements never write it)
-        return (R, W, np.empty((ns, 1, n)),
-                np.empty((3, nd, 1, n)), np.empty((2, nd, 1, n), dtype=np.bool_), np.empty(rows), np.empty(rows),
-                np.empty(rows), np.empty((self.seg_i.shape[0], width), dtype=complex), np.empty(rows), np.empty(rows),
-                np.empty(rows), np.empty(rows), np.empty((4, width)), np.zeros(nv, dtype=np.bool_),
-                np.empty(nv, dtype=np.int64))
+        width = min(n, BLOCK)
+        return (R, W, np.empty((ns, 1, n)), np.empty((3, nd, 1, n)), np.empty((2, nd, 1, n), dtype=np.bool_),
+                np.empty((nv, width)), np.empty((nv, width)), np.empty((nv, width)),
+                np.empty((5, self.seg_i.shape[0], width)), np.empty((10, width)))
 
     def give_back(self, work: tuple) -> None:
         """Keep ``work`` for the next sweep of the same size (one set, and only of a modest size)."""
         if work[0].shape[2] <= SPARE:
-            self._spare[:] = [((work[0].shape[2], work[5].shape[1]), work)]
+            self._spare[:] = [(work[0].shape[2], work)]
 
     def walk_points(self, qs, q0, h) -> tuple:
         """:func:`_walk_points`, kept for the next sweep of the same grid (the pass only reads them; a sweep's
@@ -232,22 +241,21 @@ class Pass:
             return None
         if any(o.kind == "slide" and s.input_vars.get(o.target, f"s:{o.target}") not in s.drawn for o in kin.outputs):
             return None
-        return cls(kin, joint, fixed, tape)
+        prog = cls(kin, joint, fixed, tape)
+        return prog if prog.complete else None  # a group whose loop misses one of its unknowns: the walk says why
 
 
 def sweep(kin, cont, qs, progress=None):
     """The sweep of :func:`~domes.motion.planar.sweep.run_sweep` over the grid ``qs`` (an array) in one compiled
     pass, or None where a decision is to be made (the numpy walk then takes the sweep) or the query is not of
     drivers and dyads."""
-    from domes.motion.planar.sweep import _result
-
     prog = Pass.of(kin, cont.joint, cont.fixed)
     if prog is None:
         return None
     qs = np.asarray(qs, dtype=float)
     xs, keep, lead, count = prog.walk_points(qs, cont.q0, cont.h)
     n, nk = xs.size, keep.size
-    work = prog.borrow(n, nk)
+    work = prog.borrow(n)
     R, W, S, F, B = work[:5]
     tape = prog.tape
     compiled.run(tape.rows, tape.anchors, prog.G, prog.U, prog.S0, prog.drawn, prog.fixed, xs, prog.k_swept,
@@ -257,9 +265,9 @@ def sweep(kin, cont, qs, progress=None):
     rc = np.empty((2, nk))
     verdict, worst = _passer()(R, S, F, B, xs, keep, prog.start, prog.swept, prog.values_i, prog.values_f,
                                prog.ex_ptr, prog.ex_var, prog.ex_c, prog.ex_const, prog.jump_v, prog.jump_s, JUMP,
-                               prog.signed, ROOT_FLOOR, prog.seg_i, prog.seg_f, prog.seg_link, prog.seg_u, prog.groups,
-                               prog.gscale, prog.rates, prog.accels, kin.order, kin.size, prog.outs_i, prog.outs_f, X,
-                               out, rc[0], rc[1], *work[5:])
+                               prog.signed, ROOT_FLOOR, prog.seg_i, prog.seg_f, prog.seg_link, prog.seg_u, prog.seg_du,
+                               prog.groups, prog.gscale, prog.rates, prog.accels, kin.order, kin.size, prog.outs_i,
+                               prog.outs_f, X, out, rc[0], rc[1], *work[5:])
     prog.give_back(work)
     if verdict != DONE or (kin.order and not _derivatives_known(worst, kin.order, kin.accuracy.derivatives)):
         return None
@@ -276,14 +284,15 @@ def sweep(kin, cont, qs, progress=None):
     states = {v: X[index[v]] for v in prog.states}
     table = dict(zip(prog.columns, out))
     ends = (float(inputs[0]), float(inputs[-1]))  # a sweep's grid is monotone
-    return _result(kin, cont, qs, inputs, table, rc[0], rc[1], states, [], Status.COMPLETE, [],
+    return _results()(kin, cont, qs, inputs, table, rc[0], rc[1], states, [], Status.COMPLETE, [],
                    (min(ends), max(ends)))
 
 
 def _derivatives_known(worst, order, tol) -> bool:
     """Whether no derivative is refused: the test of :func:`~domes.motion.planar.sweep._refuse`, which grows with the
-    condition number, made at the largest (``worst``)."""
-    return worst <= SINGULAR_CONDITION and all(e <= tol for e in error_bounds(worst, order)[1:])
+    condition number (:func:`~domes.motion.planar.query.error_bounds`, here on one number), made at the largest
+    (``worst``)."""
+    return worst <= SINGULAR_CONDITION and all(worst ** (k + 1) * EPS <= tol for k in range(1, order + 1))
 
 
 def _fine_grid(qs, q_from, h):  # pragma: no cover - compiled
@@ -336,7 +345,17 @@ def _walk_points(qs, q0, h):
     return xs, marks + len(lead), len(lead), pts.size
 
 
-_FINE = None
+_FINE = _RESULT = None
+
+
+def _results():
+    """:func:`~domes.motion.planar.sweep._result` (imported on first use: the sweep module imports this one)."""
+    global _RESULT
+    if _RESULT is None:
+        from domes.motion.planar.sweep import _result
+
+        _RESULT = _result
+    return _RESULT
 
 
 def _finer():
@@ -351,9 +370,9 @@ _PASS = None
 
 def _passer():
     """The compiled pass (numba imported, the loop compiled or loaded from its cache, on first use)."""
-    global _PASS, _loop, _meet, _angle
+    global _PASS, _linear, _angle
     if _PASS is None:
-        _meet, _loop, _angle = compiled._jit(_meet), compiled._jit(_loop), compiled._jit(_angle)
+        _linear, _angle = compiled._jit(_linear), compiled._jit(_angle)
         _PASS = compiled._jit(_pass)
     return _PASS
 
@@ -372,113 +391,20 @@ def _angle(z):  # pragma: no cover - compiled
     return -math.atan(x / y) + (math.pi / 2 if y > 0 else -math.pi / 2)
 
 
-def _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy, again):  # pragma: no cover - compiled
-    """Start the rows (``nb`` long) of variable ``v`` at zero when it is first met (``again``: only the rows of the
-    time derivative); the count of variables met."""
-    if seen[v]:
-        return met
-    seen[v] = True
-    seq[met] = v
+def _linear(e, ex_ptr, ex_var, ex_c, v, nb, dst):  # pragma: no cover - compiled
+    """``dst[k]``: the linear part of expression ``e`` at the values ``v[:, k]``, for the ``nb`` configurations of a
+    block (their variables, or their rates)."""
     for k in range(nb):
-        dcx[v, k] = dcy[v, k] = 0.0
-    if not again:
+        dst[k] = 0.0
+    for p in range(ex_ptr[e], ex_ptr[e + 1]):
+        c, row = ex_c[p], v[ex_var[p]]
         for k in range(nb):
-            cx[v, k] = cy[v, k] = 0.0
-    return met + 1
-
-
-def _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, rates, grad, again, a0, a1, cx, cy, dcx, dcy,
-          seen, seq, dd):  # pragma: no cover - compiled
-    """The segment sum of :func:`~domes.motion.planar.structure.evaluate` over every configuration (``units[t]``
-    segment ``t``'s ``u(Δ + α)``; rates ``xd`` when ``rates``): ``A`` into ``a0, a1``; with ``grad`` ``∂A/∂v`` into
-    rows of ``cx, cy`` and (with ``rates``) its time derivative into ``dcx, dcy``, the variables in the order first
-    met (``seq``: the order of ``evaluate``'s dicts, so sums over them round alike). Returns how many were met.
-    ``again`` (with ``rates``) fills only ``dcx, dcy``: ``A`` and ``∂A/∂v`` are those of the last call on the same
-    segments. Columns ``0 .. nb - 1`` are the configurations of the block."""
-    nk = nb
-    sums = not again
-    if sums:
-        for k in range(nk):
-            a0[k] = 0.0
-            a1[k] = 0.0
-    for v in range(seen.size):
-        seen[v] = False
-    met = np.int64(0)
-    for t in range(lo, hi):
-        e, sv = seg_i[t, 1], seg_i[t, 2]
-        u = units[t]
-        if rates:
-            for k in range(nk):
-                dd[k] = 0.0
-            for p in range(ex_ptr[e], ex_ptr[e + 1]):
-                c, v = ex_c[p], ex_var[p]
-                for k in range(nk):
-                    dd[k] += c * xd[v, k]
-        if seg_i[t, 0] == 0:
-            ln = seg_f[t, 0]
-            if sums:
-                for k in range(nk):
-                    a0[k] += ln * u[k].real
-                    a1[k] += ln * u[k].imag
-            if not grad:
-                continue
-            for p in range(ex_ptr[e], ex_ptr[e + 1]):
-                c, v = ex_c[p], ex_var[p]
-                met = _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy, again)
-                if sums:
-                    for k in range(nk):
-                        cs, sn = u[k].real, u[k].imag
-                        cx[v, k] += c * (-ln * sn)
-                        cy[v, k] += c * (ln * cs)
-                if rates:
-                    for k in range(nk):
-                        cs, sn = u[k].real, u[k].imag
-                        dcx[v, k] += c * (-ln * dd[k] * cs)
-                        dcy[v, k] += c * (-ln * dd[k] * sn)
-            continue
-        s0, sg = seg_f[t, 2], seg_f[t, 3]
-        e0 = 0.0
-        if sums:
-            for k in range(nk):
-                cs, sn = u[k].real, u[k].imag
-                s = x[sv, k] - s0
-                a0[k] += sg * (e0 * sn + s * cs)
-                a1[k] += sg * (-e0 * cs + s * sn)
-        if not grad:
-            continue
-        for p in range(ex_ptr[e], ex_ptr[e + 1]):
-            c, v = sg * ex_c[p], ex_var[p]
-            met = _meet(v, nb, seen, seq, met, cx, cy, dcx, dcy, again)
-            if sums:
-                for k in range(nk):
-                    cs, sn = u[k].real, u[k].imag
-                    s = x[sv, k] - s0
-                    cx[v, k] += c * (e0 * cs - s * sn)
-                    cy[v, k] += c * (e0 * sn + s * cs)
-            if rates:
-                for k in range(nk):
-                    cs, sn = u[k].real, u[k].imag
-                    s = x[sv, k] - s0
-                    sd = xd[sv, k]
-                    dcx[v, k] += c * (-e0 * dd[k] * sn - s * dd[k] * cs - sd * sn)
-                    dcy[v, k] += c * (e0 * dd[k] * cs - s * dd[k] * sn + sd * cs)
-        met = _meet(sv, nb, seen, seq, met, cx, cy, dcx, dcy, again)
-        if sums:
-            for k in range(nk):
-                cs, sn = u[k].real, u[k].imag
-                cx[sv, k] += sg * cs
-                cy[sv, k] += sg * sn
-        if rates:
-            for k in range(nk):
-                cs, sn = u[k].real, u[k].imag
-                dcx[sv, k] += sg * (-dd[k] * sn)
-                dcy[sv, k] += sg * (dd[k] * cs)
-    return met
+            dst[k] += c * row[k]
 
 
 def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var, ex_c, ex_const, jump_v, jump_s,
-          jump, signed, floor, seg_i, seg_f, seg_link, seg_u, groups, gscale, rates0, accels0, order, size, outs_i, outs_f, X, out,
-          residuals, conditions, x, xd, xdd, units, cx, cy, dcx, dcy, rows, seen, seq):  # pragma: no cover - compiled
+          jump, signed, floor, seg_i, seg_f, seg_link, seg_u, seg_du, groups, gscale, rates0, accels0, order, size, outs_i,
+          outs_f, X, out, residuals, conditions, x, xd, xdd, blk_f, acc):  # pragma: no cover - compiled
     n, nv = xs.size, start.size
     # the groups' variables over the walk, continuous from the drawn pose (numpy's unwrap)
     for v in range(nv):
@@ -535,109 +461,145 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
                     slope = max(slope, abs(root[i + 1] - root[i]) / d1)
                 if root[i] <= 2 * (slope * max(d0, d1) + floor):
                     return 2, 0.0
-    # on the kept configurations, a block at a time (its rows stay in cache): each dyad's loop for residual,
-    # condition, rates and accelerations; then the outputs
-    nk, width = keep.size, x.shape[1]
-    on, off = order >= 0, order < 0  # flags as values, not constants: one compiled _loop for every call
-    a0, a1, dd, gc = rows[0], rows[1], rows[2], rows[3]
+    # on the kept configurations, a block at a time (its rows stay in the cache): each dyad's loop equations
+    # A = Σ w (w = l·u for a link, ±(s − s₀)·u for a slide; u = e^{i(Δ + α)}) for residual and condition; their
+    # rates Ȧ = Σ iwΔ̇ (+ ±ṡu) and Ä = Σ (iwΔ̈ − wΔ̇²) (+ ±s̈u + 2i·±ṡuΔ̇), the unknowns' rates at zero giving the rest
+    # of the loop's, solved by the 2×2 Jacobian (its columns Σ iw·∂Δ/∂v (+ ±u)); then the outputs, as sums alike
+    nk, width, nseg = keep.size, x.shape[1], seg_i.shape[0]
+    ur, ui, wr, wi, dls = blk_f[0], blk_f[1], blk_f[2], blk_f[3], blk_f[4]
+    ar, ai, c0r, c0i, c1r, c1i, kr, ki, dl, ddl = (acc[0], acc[1], acc[2], acc[3], acc[4], acc[5], acc[6], acc[7],
+                                                   acc[8], acc[9])
     worst = 1.0
+    for v in range(nv):
+        for j in range(width):
+            xd[v, j] = rates0[v]
+            xdd[v, j] = accels0[v]
     for blk in range(0, nk, width):
         nb = min(width, nk - blk)
         for v in range(nv):
             for j in range(nb):
                 x[v, j] = X[v, keep[blk + j]]
-            if order == 0:  # no rates read
-                continue
-            for j in range(nb):
-                xd[v, j] = rates0[v]
-                xdd[v, j] = accels0[v]
-        for t in range(seg_i.shape[0]):
-            link, turn = seg_link[t], seg_u[t]
+        for t in range(nseg):
+            link, turn, ur_t, ui_t, wr_t, wi_t = seg_link[t], seg_u[t], ur[t], ui[t], wr[t], wi[t]
             if link >= 0:
                 for j in range(nb):
-                    units[t, j] = R[link, 0, keep[blk + j]] * turn
-                continue
-            e = seg_i[t, 1]
-            for j in range(nb):
-                delta = 0.0
-                for p in range(ex_ptr[e], ex_ptr[e + 1]):
-                    delta += ex_c[p] * x[ex_var[p], j]
-                delta += ex_const[e] + seg_f[t, 1]
-                units[t, j] = complex(math.cos(delta), math.sin(delta))
+                    u = R[link, 0, keep[blk + j]] * turn
+                    ur_t[j], ui_t[j] = u.real, u.imag
+            else:
+                e = seg_i[t, 1]
+                _linear(e, ex_ptr, ex_var, ex_c, x, nb, dl)
+                for j in range(nb):
+                    delta = dl[j] + ex_const[e] + seg_f[t, 1]
+                    ur_t[j], ui_t[j] = math.cos(delta), math.sin(delta)
+            if seg_i[t, 0] == 0:
+                ln = seg_f[t, 0]
+                for j in range(nb):
+                    wr_t[j], wi_t[j] = ln * ur_t[j], ln * ui_t[j]
+            else:
+                sv, s0, sg = seg_i[t, 2], seg_f[t, 2], seg_f[t, 3]
+                for j in range(nb):
+                    a = sg * (x[sv, j] - s0)
+                    wr_t[j], wi_t[j] = a * ur_t[j], a * ui_t[j]
         for j in range(nb):
             residuals[blk + j] = 0.0
             conditions[blk + j] = 1.0
         for g in range(groups.shape[0]):
             lo, hi, u0, u1 = groups[g, 0], groups[g, 1], groups[g, 2], groups[g, 3]
-            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, off, on, off, a0, a1, cx, cy,
-                        dcx, dcy, seen, seq, dd)
-            if not (seen[u0] and seen[u1]):
-                return 3, 0.0
+            for j in range(nb):
+                ar[j] = ai[j] = c0r[j] = c0i[j] = c1r[j] = c1i[j] = kr[j] = ki[j] = 0.0
+                xd[u0, j] = xd[u1, j] = xdd[u0, j] = xdd[u1, j] = 0.0
+            for t in range(lo, hi):
+                ur_t, ui_t, wr_t, wi_t = ur[t], ui[t], wr[t], wi[t]
+                d0, d1, s0, s1 = seg_du[t, 0], seg_du[t, 1], seg_du[t, 2], seg_du[t, 3]
+                for j in range(nb):
+                    ar[j] += wr_t[j]
+                    ai[j] += wi_t[j]
+                if d0 != 0.0 or s0 != 0.0:  # most segments turn with neither unknown
+                    for j in range(nb):
+                        c0r[j] += s0 * ur_t[j] - d0 * wi_t[j]
+                        c0i[j] += s0 * ui_t[j] + d0 * wr_t[j]
+                if d1 != 0.0 or s1 != 0.0:
+                    for j in range(nb):
+                        c1r[j] += s1 * ur_t[j] - d1 * wi_t[j]
+                        c1i[j] += s1 * ui_t[j] + d1 * wr_t[j]
+                if order == 0:
+                    continue
+                e = seg_i[t, 1]
+                if ex_ptr[e + 1] > ex_ptr[e]:  # a segment of constant direction adds no rate
+                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dls[t])
+                    dl_t = dls[t]
+                    for j in range(nb):
+                        kr[j] -= wi_t[j] * dl_t[j]
+                        ki[j] += wr_t[j] * dl_t[j]
+                if seg_i[t, 0] != 0:
+                    sg, sd = seg_f[t, 3], xd[seg_i[t, 2]]
+                    for j in range(nb):
+                        kr[j] += sg * sd[j] * ur_t[j]
+                        ki[j] += sg * sd[j] * ui_t[j]
             g0, g1 = gscale[g, 0], gscale[g, 1]
             for j in range(nb):
                 k = blk + j
-                residuals[k] = max(residuals[k], max(abs(a0[j]), abs(a1[j])) / size)
-                j00, j01, j10, j11 = cx[u0, j], cx[u1, j], cy[u0, j], cy[u1, j]
+                residuals[k] = max(residuals[k], max(abs(ar[j]), abs(ai[j])) / size)
+                j00, j01, j10, j11 = c0r[j], c1r[j], c0i[j], c1i[j]
                 s00, s01, s10, s11 = j00 * g0, j01 * g1, j10 * g0, j11 * g1
                 fro = s00 * s00 + s01 * s01 + s10 * s10 + s11 * s11
                 dt = abs(s00 * s11 - s01 * s10)
                 top = 0.5 * (fro + math.sqrt(max(fro * fro - 4 * dt * dt, 0.0)))
                 c = top / dt if dt != 0.0 else math.inf
                 c = max(c, 1.0) if c == c else math.inf
-                gc[j] = c
                 conditions[k] = max(conditions[k], c)
                 if order == 0:
                     continue
                 ok = math.isfinite(c)
-                det = j00 * j11 - j01 * j10
-                r0 = r1 = 0.0
-                for m in range(met):
-                    v = seq[m]
-                    if v != u0 and v != u1:
-                        r0 -= cx[v, j] * xd[v, j]
-                        r1 -= cy[v, j] * xd[v, j]
-                xd[u0, j] = (r0 * j11 - j01 * r1) / det if ok else math.nan
-                xd[u1, j] = (j00 * r1 - j10 * r0) / det if ok else math.nan
+                det = j00 * j11 - j01 * j10 if ok else math.nan  # NaN: the configuration's derivatives refused
+                r0, r1 = -kr[j], -ki[j]
+                xd[u0, j] = (r0 * j11 - j01 * r1) / det
+                xd[u1, j] = (j00 * r1 - j10 * r0) / det
+                c0r[j] = j00 if ok else math.nan
             if order < 2:
                 continue
-            met = _loop(lo, hi, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, on, on, on, a0, a1, cx, cy, dcx,
-                        dcy, seen, seq, dd)
             for j in range(nb):
-                j00, j01, j10, j11 = cx[u0, j], cx[u1, j], cy[u0, j], cy[u1, j]
+                kr[j] = ki[j] = 0.0
+            for t in range(lo, hi):
+                ur_t, ui_t, wr_t, wi_t, dl_t = ur[t], ui[t], wr[t], wi[t], dls[t]
+                d0, d1, e = seg_du[t, 0], seg_du[t, 1], seg_i[t, 1]
+                turning = ex_ptr[e + 1] > ex_ptr[e]
+                if turning:
+                    _linear(e, ex_ptr, ex_var, ex_c, xdd, nb, ddl)
+                    for j in range(nb):
+                        v = dl_t[j] + d0 * xd[u0, j] + d1 * xd[u1, j]
+                        v2 = v * v
+                        kr[j] += -wi_t[j] * ddl[j] - wr_t[j] * v2
+                        ki[j] += wr_t[j] * ddl[j] - wi_t[j] * v2
+                if seg_i[t, 0] != 0:
+                    sg, sd, sdd = seg_f[t, 3], xd[seg_i[t, 2]], xdd[seg_i[t, 2]]
+                    for j in range(nb):
+                        v = dl_t[j] + d0 * xd[u0, j] + d1 * xd[u1, j] if turning else 0.0
+                        kr[j] += sg * (sdd[j] * ur_t[j] - 2 * sd[j] * v * ui_t[j])
+                        ki[j] += sg * (sdd[j] * ui_t[j] + 2 * sd[j] * v * ur_t[j])
+            for j in range(nb):
+                j00, j01, j10, j11 = c0r[j], c1r[j], c0i[j], c1i[j]
                 det = j00 * j11 - j01 * j10
-                r0 = r1 = 0.0
-                for m in range(met):
-                    v = seq[m]
-                    if v != u0 and v != u1:
-                        r0 -= cx[v, j] * xdd[v, j]
-                        r1 -= cy[v, j] * xdd[v, j]
-                for m in range(met):
-                    v = seq[m]
-                    r0 -= dcx[v, j] * xd[v, j]
-                    r1 -= dcy[v, j] * xd[v, j]
-                ok = math.isfinite(gc[j])
-                xdd[u0, j] = (r0 * j11 - j01 * r1) / det if ok else math.nan
-                xdd[u1, j] = (j00 * r1 - j10 * r0) / det if ok else math.nan
+                r0, r1 = -kr[j], -ki[j]
+                xdd[u0, j] = (r0 * j11 - j01 * r1) / det
+                xdd[u1, j] = (j00 * r1 - j10 * r0) / det
         for j in range(nb):
             worst = max(worst, conditions[blk + j])
         col = 0
         for o in range(outs_i.shape[0]):
             kind, a, b = outs_i[o, 0], outs_i[o, 1], outs_i[o, 2]
             if kind == 0:
+                _linear(a, ex_ptr, ex_var, ex_c, x, nb, dl)
                 for j in range(nb):
-                    val = 0.0
-                    for p in range(ex_ptr[a], ex_ptr[a + 1]):
-                        val += ex_c[p] * x[ex_var[p], j]
-                    out[col, blk + j] = outs_f[o] + (val + ex_const[a])
+                    out[col, blk + j] = outs_f[o] + (dl[j] + ex_const[a])
                 if order >= 1:  # the rates apart: at order 0 their rows are not filled
+                    _linear(a, ex_ptr, ex_var, ex_c, xd, nb, dl)
                     for j in range(nb):
-                        rate = accel = 0.0
-                        for p in range(ex_ptr[a], ex_ptr[a + 1]):
-                            rate += ex_c[p] * xd[ex_var[p], j]
-                            accel += ex_c[p] * xdd[ex_var[p], j]
-                        out[col + 1, blk + j] = rate
-                        if order >= 2:
-                            out[col + 2, blk + j] = accel
+                        out[col + 1, blk + j] = dl[j]
+                if order >= 2:
+                    _linear(a, ex_ptr, ex_var, ex_c, xdd, nb, dl)
+                    for j in range(nb):
+                        out[col + 2, blk + j] = dl[j]
                 col += order + 1
             elif kind == 1:
                 for j in range(nb):
@@ -648,24 +610,43 @@ def _pass(R, S, F, B, xs, keep, start, swept, values_i, values_f, ex_ptr, ex_var
                         out[col + 2, blk + j] = xdd[a, j]
                 col += order + 1
             else:
-                met = _loop(a, b, nb, seg_i, seg_f, units, ex_ptr, ex_var, ex_c, x, xd, order >= 2, order >= 1, off, a0, a1,
-                            cx, cy, dcx, dcy, seen, seq, dd)
+                for j in range(nb):
+                    ar[j] = ai[j] = kr[j] = ki[j] = c0r[j] = c0i[j] = 0.0
+                for t in range(a, b):
+                    ur_t, ui_t, wr_t, wi_t = ur[t], ui[t], wr[t], wi[t]
+                    for j in range(nb):
+                        ar[j] += wr_t[j]
+                        ai[j] += wi_t[j]
+                    e, slide = seg_i[t, 1], seg_i[t, 0] != 0
+                    if order == 0 or not (slide or ex_ptr[e + 1] > ex_ptr[e]):  # constant: no rate
+                        continue
+                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dl)
+                    for j in range(nb):
+                        kr[j] -= wi_t[j] * dl[j]
+                        ki[j] += wr_t[j] * dl[j]
+                    if slide:
+                        sg, sd = seg_f[t, 3], xd[seg_i[t, 2]]
+                        for j in range(nb):
+                            kr[j] += sg * sd[j] * ur_t[j]
+                            ki[j] += sg * sd[j] * ui_t[j]
+                    if order == 1:
+                        continue
+                    _linear(e, ex_ptr, ex_var, ex_c, xdd, nb, ddl)
+                    for j in range(nb):
+                        v2 = dl[j] * dl[j]
+                        c0r[j] += -wi_t[j] * ddl[j] - wr_t[j] * v2
+                        c0i[j] += wr_t[j] * ddl[j] - wi_t[j] * v2
+                    if slide:
+                        sg, sd, sdd = seg_f[t, 3], xd[seg_i[t, 2]], xdd[seg_i[t, 2]]
+                        for j in range(nb):
+                            c0r[j] += sg * (sdd[j] * ur_t[j] - 2 * sd[j] * dl[j] * ui_t[j])
+                            c0i[j] += sg * (sdd[j] * ui_t[j] + 2 * sd[j] * dl[j] * ur_t[j])
                 for j in range(nb):
                     k = blk + j
-                    out[col, k], out[col + 1, k] = a0[j], a1[j]
-                    if order == 0:
-                        continue
-                    v0 = v1 = w0 = w1 = e0 = e1 = 0.0
-                    for m in range(met):
-                        v = seq[m]
-                        v0 += cx[v, j] * xd[v, j]
-                        v1 += cy[v, j] * xd[v, j]
-                        w0 += cx[v, j] * xdd[v, j]
-                        w1 += cy[v, j] * xdd[v, j]
-                        e0 += dcx[v, j] * xd[v, j]
-                        e1 += dcy[v, j] * xd[v, j]
-                    out[col + 2, k], out[col + 3, k] = v0, v1
+                    out[col, k], out[col + 1, k] = ar[j], ai[j]
+                    if order >= 1:
+                        out[col + 2, k], out[col + 3, k] = kr[j], ki[j]
                     if order >= 2:
-                        out[col + 4, k], out[col + 5, k] = w0 + e0, w1 + e1
+                        out[col + 4, k], out[col + 5, k] = c0r[j], c0i[j]
                 col += 2 * (order + 1)
     return 0, worst
