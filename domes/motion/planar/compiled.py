@@ -288,9 +288,10 @@ def _jit(fn):
 
 def _kernel():
     """The compiled loop (numba imported and the loop compiled, or loaded from its cache, on first use)."""
-    global _COMPILED, _quotient, _scaled
+    global _COMPILED, _quotient, _unit, _placed
     if _COMPILED is None:
-        _quotient, _scaled = _jit(_quotient), _jit(_scaled)
+        _quotient, _unit = _jit(_quotient), _jit(_unit)
+        _placed = _jit(_placed)
         _COMPILED = _jit(_run)
     return _COMPILED
 
@@ -307,10 +308,16 @@ def _quotient(z, w):
     return complex((z.real * rat + z.imag) * scl, (z.imag * rat - z.real) * scl)
 
 
-def _scaled(z, x):
-    """``z / x`` for a real ``x``, as numpy divides a complex array by a real one (by the reciprocal)."""
-    r = 1.0 / x
-    return complex(z.real * r, z.imag * r)
+def _unit(z):
+    """``z / |z|`` for ``|z|`` near 1 (a link's turn from its drawn pose, found as a quotient of two vectors of its
+    length): one Newton step of ``1/√m`` from 1, ``z·(3 − m)/2``, within an ulp or two of the quotient while
+    ``|m − 1| ≤ 1e-8`` (its error is ``3(m − 1)²/8``); else by the square root."""
+    m = z.real * z.real + z.imag * z.imag
+    if abs(m - 1.0) <= 1e-8:
+        f = 1.5 - 0.5 * m
+    else:
+        f = 1.0 / np.sqrt(m)
+    return complex(z.real * f, z.imag * f)
 
 
 def _finisher():
@@ -413,11 +420,17 @@ def run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, c
 
 
 def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, closures):  # pragma: no cover - compiled
+    turns = np.empty(qs.size, dtype=np.complex128)
+    for i in range(qs.size):
+        turns[i] = complex(np.cos(qs[i]), np.sin(qs[i]))
+    _placed(rows, anchors, G, U, S0, drawn, fixed, qs, turns, swept, sign, R, W, S, F, B, closures)
+
+
+def _placed(rows, anchors, G, U, S0, drawn, fixed, qs, turns, swept, sign, R, W, S, F, B,
+            closures):  # pragma: no cover - compiled
+    """:func:`_run` with the swept input's turns ``e^{iq}`` given."""
     slack = 1e-14 * 64
     n = qs.size
-    turns = np.empty(n, dtype=np.complex128)
-    for i in range(n):
-        turns[i] = complex(np.cos(qs[i]), np.sin(qs[i]))
     for m in range(G.shape[0]):
         g = G[m]
         for r in range(rows.shape[0]):
@@ -458,7 +471,8 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, 
                 ba, bc = b - a, b - c
                 l1n, l2n = abs(ba), abs(bc)
                 lo, hi = abs(l1n - l2n), l1n + l2n
-                ia, ic = ba.conjugate(), bc.conjugate()
+                ia, ic = ba.conjugate() * (1.0 / (l1n * l1n)), bc.conjugate() * (1.0 / (l2n * l2n))
+                over = 1.0 / (2 * l1n * l2n)
                 for i in range(n):
                     A = Wa[i] + Ra[i] * arm_a
                     C = Wc[i] + Rc[i] * arm_c
@@ -472,11 +486,9 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, 
                     prod = max((l1n + dd + l2n) * (l1n + dd - l2n) * (l1n - dd + l2n) * (-l1n + dd + l2n), 0.0)
                     rp = np.sqrt(prod)
                     Bp = A + D * complex(l1n * l1n + dd2 - l2n * l2n, sg * rp) * (0.5 / dd2)
-                    root[i] = rp / (2 * l1n * l2n)
-                    z1 = (Bp - A) * ia
-                    z2 = (Bp - C) * ic
-                    u1 = z1 * (1.0 / np.sqrt(z1.real * z1.real + z1.imag * z1.imag))
-                    u2 = z2 * (1.0 / np.sqrt(z2.real * z2.real + z2.imag * z2.imag))
+                    root[i] = rp * over
+                    u1 = _unit((Bp - A) * ia)
+                    u2 = _unit((Bp - C) * ic)
                     R1[i], W1[i], R2[i], W2[i] = u1, A, u2, C
                     e = C + u2 * bc - Bp
                     if closures:
@@ -503,7 +515,7 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, 
                     t = sg * np.sqrt(max(diff, 0.0))
                     z = _quotient(D, complex(t, e) * u0)
                     root[i] = abs(t) / rr
-                    Rr = _scaled(z, abs(z))
+                    Rr = _unit(z)
                     S[s, m, i] = S0[m, s] + t - t0
                     R1[i], W1[i], R2[i], W2[i] = Rr, A, Rr, C
                     slid = Gp + Rr * (b - gp) + (t - t0) * Rr * u0
@@ -528,8 +540,7 @@ def _run(rows, anchors, G, U, S0, drawn, fixed, qs, swept, sign, R, W, S, F, B, 
                     tau = -(u.real * w.real + u.imag * w.imag) + sg * rp
                     Bp = p0 + tau * u
                     root[i] = rp / l1n
-                    z1 = _quotient(Bp - A, b - a)
-                    u1 = _scaled(z1, abs(z1))
+                    u1 = _unit(_quotient(Bp - A, b - a))
                     S[s, m, i] = S0[m, s] + rows[r, 11] * tau
                     R1[i], W1[i], R2[i], W2[i] = u1, A, Rk, C + tau * u
                     if closures:

@@ -54,7 +54,9 @@ SPARE = 1 << 17
 #: Configurations per block of the pass's loop equations and outputs (their rows stay in the cache).
 BLOCK = 256
 #: A link's angle within this tangent of its last one found by ``atan`` is that one's plus the series of the turn
-#: from it (:func:`_small_atan`: 3 units in the last place at most, 40% less time than ``atan``).
+#: from it (:func:`_small_atan`: 3 units in the last place at most, 40% less time than ``atan``); an input within
+#: this angle of the last one turned by ``cos`` and ``sin`` is turned from that one by a series
+#: (:func:`_small_turn`).
 NEAR = 0.05
 #: Row kinds of the outputs.
 ANGLE, SLIDE, POINT = 0, 1, 2
@@ -372,13 +374,15 @@ _PASS = _place = None
 
 def _passer():
     """The compiled pass (numba imported, the loop compiled or loaded from its cache, on first use)."""
-    global _PASS, _linear, _angle, _small_atan, _block, _place
+    global _PASS, _linear, _angle, _small_atan, _small_turn, _block, _place
     if _PASS is None:
         _linear, _angle, _small_atan = compiled._jit(_linear), compiled._jit(_angle), compiled._jit(_small_atan)
+        _small_turn = compiled._jit(_small_turn)
         _block = compiled._jit(_block)
         # numba's cache of the pass follows this file only: a change of the placements' loop in compiled.py
         # reaches a cached pass once this file changes too (or the cache is cleared)
-        _place = compiled._kernel()
+        compiled._kernel()
+        _place = compiled._placed
         _PASS = compiled._jit(_pass)
     return _PASS
 
@@ -388,6 +392,15 @@ def _small_atan(t):  # pragma: no cover - compiled
     t2 = t * t
     return t * (1.0 - t2 * (1.0 / 3 - t2 * (1.0 / 5 - t2 * (1.0 / 7 - t2 * (1.0 / 9 - t2 * (1.0 / 11
                                                                                           - t2 * (1.0 / 13)))))))
+
+
+def _small_turn(d):  # pragma: no cover - compiled
+    """``e^{id}`` for ``|d| ≤ NEAR`` by the series of cos and sin to ``d⁸`` and ``d⁹`` (the next terms are below
+    1e-19)."""
+    d2 = d * d
+    c = 1.0 - d2 * (0.5 - d2 * (1.0 / 24 - d2 * (1.0 / 720 - d2 * (1.0 / 40320))))
+    s = d * (1.0 - d2 * (1.0 / 6 - d2 * (1.0 / 120 - d2 * (1.0 / 5040 - d2 * (1.0 / 362880)))))
+    return complex(c, s)
 
 
 def _angle(z):  # pragma: no cover - compiled
@@ -407,9 +420,15 @@ def _angle(z):  # pragma: no cover - compiled
 def _linear(e, ex_ptr, ex_var, ex_c, v, nb, dst):  # pragma: no cover - compiled
     """``dst[k]``: the linear part of expression ``e`` at the values ``v[:, k]``, for the ``nb`` configurations of a
     block (their variables, or their rates)."""
+    lo, hi = ex_ptr[e], ex_ptr[e + 1]
+    if lo == hi:
+        for k in range(nb):
+            dst[k] = 0.0
+        return
+    c, row = ex_c[lo], v[ex_var[lo]]
     for k in range(nb):
-        dst[k] = 0.0
-    for p in range(ex_ptr[e], ex_ptr[e + 1]):
+        dst[k] = c * row[k]
+    for p in range(lo + 1, hi):
         c, row = ex_c[p], v[ex_var[p]]
         for k in range(nb):
             dst[k] += c * row[k]
@@ -436,9 +455,20 @@ def _pass(rows, anchors, G, U, S0, drawn, fixed, k_swept, sign, R, W, S, F, B, r
             xdd[v, j] = accels0[v]
     worst = 1.0
     k0 = 0
+    turns = np.empty(chunk, dtype=np.complex128)
+    q_anchor, e_anchor = xs[0], complex(math.cos(xs[0]), math.sin(xs[0]))
     for c0 in range(0, n, chunk):
         c1 = min(n, c0 + chunk)
-        _place(rows, anchors, G, U, S0, drawn, fixed, xs[c0:c1], k_swept, sign, R, W, S, F, B, False)
+        for i in range(c0, c1):
+            # the input's turn: near the last one found by cos and sin (the anchor), the anchor's times the series
+            # of the small turn from it; else by cos and sin, a new anchor
+            d = xs[i] - q_anchor
+            if abs(d) > NEAR:
+                q_anchor, e_anchor = xs[i], complex(math.cos(xs[i]), math.sin(xs[i]))
+                turns[i - c0] = e_anchor
+            else:
+                turns[i - c0] = e_anchor * _small_turn(d)
+        _place(rows, anchors, G, U, S0, drawn, fixed, xs[c0:c1], turns, k_swept, sign, R, W, S, F, B, False)
         # the groups' variables, continuous from the drawn pose (numpy's unwrap)
         for v in range(nv):
             for i in range(c0, c1):
@@ -537,11 +567,25 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
     worst = 1.0
     for blk in range(k0, k1, width):
         nb = min(width, k1 - blk)
+        base = keep[blk]
+        together = keep[blk + nb - 1] - base == nb - 1  # the kept configurations in a row: no gather
         for v in range(nv):
-            for j in range(nb):
-                x[v, j] = X[v, keep[blk + j]]
+            if together:
+                for j in range(nb):
+                    x[v, j] = X[v, base + j]
+            else:
+                for j in range(nb):
+                    x[v, j] = X[v, keep[blk + j]]
+        base -= c0
         for t in range(nseg):
             link, turn, ur_t, ui_t, wr_t, wi_t = seg_link[t], seg_u[t], ur[t], ui[t], wr[t], wi[t]
+            if link >= 0 and seg_i[t, 0] == 0:  # a link's segment: its unit and w in one loop
+                ln, Rl = seg_f[t, 0], R[link, 0]
+                for j in range(nb):
+                    u = Rl[base + j if together else keep[blk + j] - c0] * turn
+                    ur_t[j], ui_t[j] = u.real, u.imag
+                    wr_t[j], wi_t[j] = ln * u.real, ln * u.imag
+                continue
             if link >= 0:
                 for j in range(nb):
                     u = R[link, 0, keep[blk + j] - c0] * turn
@@ -572,9 +616,19 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
             for t in range(lo, hi):
                 ur_t, ui_t, wr_t, wi_t = ur[t], ui[t], wr[t], wi[t]
                 d0, d1, s0, s1 = seg_du[t, 0], seg_du[t, 1], seg_du[t, 2], seg_du[t, 3]
-                for j in range(nb):
-                    ar[j] += wr_t[j]
-                    ai[j] += wi_t[j]
+                e = seg_i[t, 1]
+                if order > 0 and ex_ptr[e + 1] > ex_ptr[e]:  # A and the rest of Ȧ in one loop
+                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dls[t])
+                    dl_t = dls[t]
+                    for j in range(nb):
+                        ar[j] += wr_t[j]
+                        ai[j] += wi_t[j]
+                        kr[j] -= wi_t[j] * dl_t[j]
+                        ki[j] += wr_t[j] * dl_t[j]
+                else:  # a segment of constant direction adds no rate
+                    for j in range(nb):
+                        ar[j] += wr_t[j]
+                        ai[j] += wi_t[j]
                 if d0 != 0.0 or s0 != 0.0:  # most segments turn with neither unknown
                     for j in range(nb):
                         c0r[j] += s0 * ur_t[j] - d0 * wi_t[j]
@@ -583,35 +637,28 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
                     for j in range(nb):
                         c1r[j] += s1 * ur_t[j] - d1 * wi_t[j]
                         c1i[j] += s1 * ui_t[j] + d1 * wr_t[j]
-                if order == 0:
-                    continue
-                e = seg_i[t, 1]
-                if ex_ptr[e + 1] > ex_ptr[e]:  # a segment of constant direction adds no rate
-                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dls[t])
-                    dl_t = dls[t]
-                    for j in range(nb):
-                        kr[j] -= wi_t[j] * dl_t[j]
-                        ki[j] += wr_t[j] * dl_t[j]
-                if seg_i[t, 0] != 0:
+                if order > 0 and seg_i[t, 0] != 0:
                     sg, sd = seg_f[t, 3], xd[seg_i[t, 2]]
                     for j in range(nb):
                         kr[j] += sg * sd[j] * ur_t[j]
                         ki[j] += sg * sd[j] * ui_t[j]
             g0, g1 = gscale[g, 0], gscale[g, 1]
-            for j in range(nb):
+            for j in range(nb):  # no branch: the loop runs four configurations at once
                 k = blk + j
                 residuals[k] = max(residuals[k], max(abs(ar[j]), abs(ai[j])) / size)
-                j00, j01, j10, j11 = c0r[j], c1r[j], c0i[j], c1i[j]
-                s00, s01, s10, s11 = j00 * g0, j01 * g1, j10 * g0, j11 * g1
+                s00, s01, s10, s11 = c0r[j] * g0, c1r[j] * g1, c0i[j] * g0, c1i[j] * g1
                 fro = s00 * s00 + s01 * s01 + s10 * s10 + s11 * s11
                 dt = abs(s00 * s11 - s01 * s10)
                 top = 0.5 * (fro + math.sqrt(max(fro * fro - 4 * dt * dt, 0.0)))
-                c = top / dt if dt != 0.0 else math.inf
+                c = top / dt  # infinite where dt is zero (NaN where top is too)
                 c = max(c, 1.0) if c == c else math.inf
+                dl[j] = c
                 conditions[k] = max(conditions[k], c)
-                if order == 0:
-                    continue
-                ok = math.isfinite(c)
+            if order == 0:
+                continue
+            for j in range(nb):
+                j00, j01, j10, j11 = c0r[j], c1r[j], c0i[j], c1i[j]
+                ok = dl[j] < math.inf
                 det = j00 * j11 - j01 * j10 if ok else math.nan  # NaN: the configuration's derivatives refused
                 r0, r1 = -kr[j], -ki[j]
                 xd[u0, j] = (r0 * j11 - j01 * r1) / det
@@ -649,7 +696,16 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
         col = 0
         for o in range(outs_i.shape[0]):
             kind, a, b = outs_i[o, 0], outs_i[o, 1], outs_i[o, 2]
-            if kind == 0:
+            if kind == 0 and ex_ptr[a + 1] - ex_ptr[a] == 1:  # one variable's multiple: every row in one loop
+                c, v, ref = ex_c[ex_ptr[a]], ex_var[ex_ptr[a]], outs_f[o] + ex_const[a]
+                for j in range(nb):
+                    out[col, blk + j] = ref + c * x[v, j]
+                    if order >= 1:
+                        out[col + 1, blk + j] = c * xd[v, j]
+                    if order >= 2:
+                        out[col + 2, blk + j] = c * xdd[v, j]
+                col += order + 1
+            elif kind == 0:
                 _linear(a, ex_ptr, ex_var, ex_c, x, nb, dl)
                 for j in range(nb):
                     out[col, blk + j] = outs_f[o] + (dl[j] + ex_const[a])
@@ -675,14 +731,27 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
                     ar[j] = ai[j] = kr[j] = ki[j] = c0r[j] = c0i[j] = 0.0
                 for t in range(a, b):
                     ur_t, ui_t, wr_t, wi_t = ur[t], ui[t], wr[t], wi[t]
+                    e, slide = seg_i[t, 1], seg_i[t, 0] != 0
+                    if order == 0 or not (slide or ex_ptr[e + 1] > ex_ptr[e]):  # constant: no rate
+                        for j in range(nb):
+                            ar[j] += wr_t[j]
+                            ai[j] += wi_t[j]
+                        continue
+                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dl)
+                    if order >= 2 and not slide:  # the point, its rate and its acceleration in one loop
+                        _linear(e, ex_ptr, ex_var, ex_c, xdd, nb, ddl)
+                        for j in range(nb):
+                            ar[j] += wr_t[j]
+                            ai[j] += wi_t[j]
+                            kr[j] -= wi_t[j] * dl[j]
+                            ki[j] += wr_t[j] * dl[j]
+                            v2 = dl[j] * dl[j]
+                            c0r[j] += -wi_t[j] * ddl[j] - wr_t[j] * v2
+                            c0i[j] += wr_t[j] * ddl[j] - wi_t[j] * v2
+                        continue
                     for j in range(nb):
                         ar[j] += wr_t[j]
                         ai[j] += wi_t[j]
-                    e, slide = seg_i[t, 1], seg_i[t, 0] != 0
-                    if order == 0 or not (slide or ex_ptr[e + 1] > ex_ptr[e]):  # constant: no rate
-                        continue
-                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dl)
-                    for j in range(nb):
                         kr[j] -= wi_t[j] * dl[j]
                         ki[j] += wr_t[j] * dl[j]
                     if slide:

@@ -193,7 +193,8 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
             dlo, dhi = abs(l1n - l2n), l1n + l2n
             c0 = l1n * l1n
             c1 = l2n * l2n
-            iar, iai, icr, ici = ba.real, -ba.imag, bc.real, -bc.imag
+            ia, ic = ba.conjugate() * (1.0 / (l1n * l1n)), bc.conjugate() * (1.0 / (l2n * l2n))  # as compiled.run
+            iar, iai, icr, ici = ia.real, ia.imag, ic.real, ic.imag
             for i in range(n):  # short passes: many inputs' square roots and divisions in flight at once
                 if ka == 0:
                     Ar, Ai = aar, aai
@@ -242,13 +243,15 @@ def _reduce(rows, anchors, G, U, S0, drawn, qs, swept, sign, signed, spec, used,
                     zr, zi = er * icr - ei * ici, er * ici + ei * icr
                     sq2[i] = zr * zr + zi * zi
                     r2r[i], r2i[i] = zr, zi
-            if used1:
+            if used1:  # compiled._unit: one Newton step from 1, or the square root
                 for i in range(n):
-                    h1 = 1.0 / np.sqrt(sq[i])
+                    m1 = sq[i]
+                    h1 = 1.5 - 0.5 * m1 if abs(m1 - 1.0) <= 1e-8 else 1.0 / np.sqrt(m1)
                     r1r[i], r1i[i] = r1r[i] * h1, r1i[i] * h1
             if used2:
                 for i in range(n):
-                    h2 = 1.0 / np.sqrt(sq2[i])
+                    m2 = sq2[i]
+                    h2 = 1.5 - 0.5 * m2 if abs(m2 - 1.0) <= 1e-8 else 1.0 / np.sqrt(m2)
                     r2r[i], r2i[i] = r2r[i] * h2, r2i[i] * h2
         worst = np.inf  # the smallest root rp / (2·l1·l2) over the good inputs: the smallest rp, divided once
         closure = 0.0
