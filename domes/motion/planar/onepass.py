@@ -53,6 +53,8 @@ DONE, FAILED, NEAR_BRANCH = 0, 1, 2
 SPARE = 1 << 17
 #: Configurations per block of the pass's loop equations and outputs (their rows stay in the cache).
 BLOCK = 256
+#: Walked points placed at a time (their placements stay in the cache: about 0.2 MB for a six-bar).
+CHUNK = 1024
 #: A link's angle within this tangent of its last one found by ``atan`` is that one's plus the series of the turn
 #: from it (:func:`_small_atan`: 3 units in the last place at most, 40% less time than ``atan``); an input within
 #: this angle of the last one turned by ``cos`` and ``sin`` is turned from that one by a series
@@ -204,12 +206,12 @@ class Pass:
             if size == n:
                 return work
         nl, nd, ns, nv = len(self.tape.links), len(self.tape.dyads), len(self.tape.slides), len(self.names)
-        width = min(n, BLOCK)
-        R, W = np.empty((nl, 1, width), dtype=complex), np.empty((nl, 1, width), dtype=complex)
+        width, chunk = min(n, BLOCK), min(n, CHUNK)
+        R, W = np.empty((nl, 1, chunk), dtype=complex), np.empty((nl, 1, chunk), dtype=complex)
         R[0], W[0] = 1.0, 0.0  # the ground (the placements never write it)
-        return (R, W, np.empty((ns, 1, width)), np.empty((3, nd, 1, width)), np.empty((2, nd, 1, width), dtype=np.bool_),
+        return (R, W, np.empty((ns, 1, chunk)), np.empty((3, nd, 1, chunk)), np.empty((2, nd, 1, chunk), dtype=np.bool_),
                 np.empty((self.signed.size, n)), np.empty((nv, width)), np.empty((nv, width)), np.empty((nv, width)),
-                np.empty((5, self.seg_i.shape[0], width)), np.empty((10, width)))
+                np.empty((4, self.seg_i.shape[0], width)), np.empty((10, width)))
 
     def give_back(self, work: tuple) -> None:
         """Keep ``work`` for the next sweep of the same size (one set, and only of a modest size)."""
@@ -220,10 +222,10 @@ class Pass:
         """:func:`_walk_points`, kept for the next sweep of the same grid (the pass only reads them; a sweep's
         inputs are copied out)."""
         last = self._walk
-        if last is not None and last[0] == (q0, h) and np.array_equal(last[1], qs):
+        if last is not None and last[0] == (q0, h) and (last[1] is qs or np.array_equal(last[1], qs)):
             return last[2]
         points = _walk_points(qs, q0, h)
-        self._walk = ((q0, h), qs.copy(), points)
+        self._walk = ((q0, h), qs if not qs.flags.writeable else qs.copy(), points)
         return points
 
     @classmethod
@@ -296,7 +298,8 @@ def _derivatives_known(worst, order, tol) -> bool:
     """Whether no derivative is refused: the test of :func:`~domes.motion.planar.sweep._refuse`, which grows with the
     condition number (:func:`~domes.motion.planar.query.error_bounds`, here on one number), made at the largest
     (``worst``)."""
-    return worst <= SINGULAR_CONDITION and all(worst ** (k + 1) * EPS <= tol for k in range(1, order + 1))
+    return worst <= SINGULAR_CONDITION and (order < 1 or worst * worst * EPS <= tol) and \
+        (order < 2 or worst * worst * worst * EPS <= tol)
 
 
 def _fine_grid(qs, q_from, h):  # pragma: no cover - compiled
@@ -484,7 +487,7 @@ def _pass(rows, anchors, G, U, S0, drawn, fixed, k_swept, sign, R, W, S, F, B, r
             if c0 == 0:
                 za[r] = R[at, 0, 0]
                 ta[r] = _angle(za[r])
-            p_r, f_r, z_a, t_a, coef = prev[r], fix[r], za[r], ta[r], values_f[r]
+            p_r, f_r, z_a, t_a, inv = prev[r], fix[r], za[r], ta[r], 1.0 / values_f[r]
             for i in range(c0, c1):
                 rest = 0.0
                 for p in range(ex_ptr[e], ex_ptr[e + 1]):
@@ -499,7 +502,7 @@ def _pass(rows, anchors, G, U, S0, drawn, fixed, k_swept, sign, R, W, S, F, B, r
                 else:
                     z_a, t_a = z, _angle(z)
                     angle = t_a
-                new = (angle - rest) / coef
+                new = (angle - rest) * inv  # the reciprocal (±1 as a rule: exact)
                 dd = new - p_r
                 p_r = new
                 if abs(dd) >= math.pi:  # numpy's unwrap: the step taken to (-π, π], less the step
@@ -561,7 +564,7 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
     # rates Ȧ = Σ iwΔ̇ (+ ±ṡu) and Ä = Σ (iwΔ̈ − wΔ̇²) (+ ±s̈u + 2i·±ṡuΔ̇), the unknowns' rates at zero giving the rest
     # of the loop's, solved by the 2×2 Jacobian (its columns Σ iw·∂Δ/∂v (+ ±u)); then the outputs, as sums alike
     width, nseg = x.shape[1], seg_i.shape[0]
-    ur, ui, wr, wi, dls = blk_f[0], blk_f[1], blk_f[2], blk_f[3], blk_f[4]
+    ur, ui, wr, wi = blk_f[0], blk_f[1], blk_f[2], blk_f[3]
     ar, ai, c0r, c0i, c1r, c1i, kr, ki, dl, ddl = (acc[0], acc[1], acc[2], acc[3], acc[4], acc[5], acc[6], acc[7],
                                                    acc[8], acc[9])
     worst = 1.0
@@ -580,11 +583,18 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
         for t in range(nseg):
             link, turn, ur_t, ui_t, wr_t, wi_t = seg_link[t], seg_u[t], ur[t], ui[t], wr[t], wi[t]
             if link >= 0 and seg_i[t, 0] == 0:  # a link's segment: its unit and w in one loop
-                ln, Rl = seg_f[t, 0], R[link, 0]
-                for j in range(nb):
-                    u = Rl[base + j if together else keep[blk + j] - c0] * turn
-                    ur_t[j], ui_t[j] = u.real, u.imag
-                    wr_t[j], wi_t[j] = ln * u.real, ln * u.imag
+                ln, tr, ti = seg_f[t, 0], turn.real, turn.imag
+                if together:
+                    Rl = R[link, 0, base:base + nb]
+                    for j in range(nb):
+                        rr, ri = Rl[j].real, Rl[j].imag
+                        a, b = rr * tr - ri * ti, rr * ti + ri * tr
+                        ur_t[j], ui_t[j], wr_t[j], wi_t[j] = a, b, ln * a, ln * b
+                else:
+                    for j in range(nb):
+                        u = R[link, 0, keep[blk + j] - c0] * turn
+                        ur_t[j], ui_t[j] = u.real, u.imag
+                        wr_t[j], wi_t[j] = ln * u.real, ln * u.imag
                 continue
             if link >= 0:
                 for j in range(nb):
@@ -617,9 +627,17 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
                 ur_t, ui_t, wr_t, wi_t = ur[t], ui[t], wr[t], wi[t]
                 d0, d1, s0, s1 = seg_du[t, 0], seg_du[t, 1], seg_du[t, 2], seg_du[t, 3]
                 e = seg_i[t, 1]
-                if order > 0 and ex_ptr[e + 1] > ex_ptr[e]:  # A and the rest of Ȧ in one loop
-                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dls[t])
-                    dl_t = dls[t]
+                if order > 0 and ex_ptr[e + 1] - ex_ptr[e] == 1:  # one variable's multiple: Δ̇ in the loop
+                    c, xv = ex_c[ex_ptr[e]], xd[ex_var[ex_ptr[e]]]
+                    for j in range(nb):
+                        d = c * xv[j]
+                        ar[j] += wr_t[j]
+                        ai[j] += wi_t[j]
+                        kr[j] -= wi_t[j] * d
+                        ki[j] += wr_t[j] * d
+                elif order > 0 and ex_ptr[e + 1] > ex_ptr[e]:  # A and the rest of Ȧ in one loop
+                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dl)
+                    dl_t = dl
                     for j in range(nb):
                         ar[j] += wr_t[j]
                         ai[j] += wi_t[j]
@@ -668,23 +686,32 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
                 continue
             for j in range(nb):
                 kr[j] = ki[j] = 0.0
-            for t in range(lo, hi):
-                ur_t, ui_t, wr_t, wi_t, dl_t = ur[t], ui[t], wr[t], wi[t], dls[t]
-                d0, d1, e = seg_du[t, 0], seg_du[t, 1], seg_i[t, 1]
-                turning = ex_ptr[e + 1] > ex_ptr[e]
-                if turning:
+            for t in range(lo, hi):  # Δ̇ now with the unknowns' rates; their accelerations at zero
+                ur_t, ui_t, wr_t, wi_t = ur[t], ui[t], wr[t], wi[t]
+                e, slide, terms = seg_i[t, 1], seg_i[t, 0] != 0, ex_ptr[seg_i[t, 1] + 1] - ex_ptr[seg_i[t, 1]]
+                if terms == 0:
+                    for j in range(nb):
+                        dl[j] = 0.0
+                elif terms == 1 and not slide:
+                    p = ex_ptr[e]
+                    c, xv, xa = ex_c[p], xd[ex_var[p]], xdd[ex_var[p]]
+                    for j in range(nb):
+                        d, dd = c * xv[j], c * xa[j]
+                        v2 = d * d
+                        kr[j] += -wi_t[j] * dd - wr_t[j] * v2
+                        ki[j] += wr_t[j] * dd - wi_t[j] * v2
+                else:
+                    _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dl)
                     _linear(e, ex_ptr, ex_var, ex_c, xdd, nb, ddl)
                     for j in range(nb):
-                        v = dl_t[j] + d0 * xd[u0, j] + d1 * xd[u1, j]
-                        v2 = v * v
+                        v2 = dl[j] * dl[j]
                         kr[j] += -wi_t[j] * ddl[j] - wr_t[j] * v2
                         ki[j] += wr_t[j] * ddl[j] - wi_t[j] * v2
-                if seg_i[t, 0] != 0:
+                if slide:
                     sg, sd, sdd = seg_f[t, 3], xd[seg_i[t, 2]], xdd[seg_i[t, 2]]
                     for j in range(nb):
-                        v = dl_t[j] + d0 * xd[u0, j] + d1 * xd[u1, j] if turning else 0.0
-                        kr[j] += sg * (sdd[j] * ur_t[j] - 2 * sd[j] * v * ui_t[j])
-                        ki[j] += sg * (sdd[j] * ui_t[j] + 2 * sd[j] * v * ur_t[j])
+                        kr[j] += sg * (sdd[j] * ur_t[j] - 2 * sd[j] * dl[j] * ui_t[j])
+                        ki[j] += sg * (sdd[j] * ui_t[j] + 2 * sd[j] * dl[j] * ur_t[j])
             for j in range(nb):
                 j00, j01, j10, j11 = c0r[j], c1r[j], c0i[j], c1i[j]
                 det = j00 * j11 - j01 * j10

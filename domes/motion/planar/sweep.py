@@ -218,13 +218,27 @@ def run_sweep(kin: Kinematics, start, stop, step=None, joint=None, others=None, 
         raise InputError(f"a sweep from {cont.fmt(start)} to {cont.fmt(stop)} walks from the drawn pose "
                          f"({cont.fmt(cont.q0)}) in {walked:.3g} steps of the resolution {cont.fmt(cont.h)}, more than "
                          f"{MAX_STEPS:,}: sweep a shorter range, nearer the drawn pose")
-    qs = grid_points(start, stop, step or cont.h)
+    qs = _grid(kin, start, stop, step or cont.h)
     if blocked(kin):
         sw = _scalar_sweep(kin, cont, qs.tolist(), progress)
     else:  # the compiled route tries the sweep in one pass first; where a decision is due, the numpy walk makes it
         sw = onepass.sweep(kin, cont, qs, progress) if choose(qs.size) else None
         sw = sw or _vector_sweep(kin, cont, qs.tolist(), progress)
     return replace(sw, turns=turns) if turns else sw
+
+
+def _grid(kin, start, stop, step):
+    """:func:`~domes.motion.planar.continuation.grid_points`, read-only and kept on the query for its next sweeps
+    of the same grid (the last few)."""
+    cache = kin.__dict__.setdefault("_grids", {})
+    qs = cache.get((start, stop, step))
+    if qs is None:
+        qs = grid_points(start, stop, step)
+        qs.flags.writeable = False
+        if len(cache) >= 4:
+            cache.pop(next(iter(cache)), None)
+        cache[(start, stop, step)] = qs
+    return qs
 
 
 def _reach(kin, cont, q):
