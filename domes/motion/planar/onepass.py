@@ -377,8 +377,9 @@ _PASS = _place = None
 
 def _passer():
     """The compiled pass (numba imported, the loop compiled or loaded from its cache, on first use)."""
-    global _PASS, _linear, _angle, _small_atan, _small_turn, _block, _place
+    global _PASS, _linear, _angle, _small_atan, _small_turn, _block, _place, _accelerations
     if _PASS is None:
+        _accelerations = compiled._jit(_accelerations)
         _linear, _angle, _small_atan = compiled._jit(_linear), compiled._jit(_angle), compiled._jit(_small_atan)
         _small_turn = compiled._jit(_small_turn)
         _block = compiled._jit(_block)
@@ -435,6 +436,23 @@ def _linear(e, ex_ptr, ex_var, ex_c, v, nb, dst):  # pragma: no cover - compiled
         c, row = ex_c[p], v[ex_var[p]]
         for k in range(nb):
             dst[k] += c * row[k]
+
+
+def _accelerations(t, nb, turning, seg_i, seg_f, ur, ui, wr, wi, dl, ddl, xd, xdd, sr,
+                   si):  # pragma: no cover - compiled
+    """Add segment ``t``'s part of ``Ä`` to ``sr + i·si``: ``iwΔ̈ − wΔ̇²`` where it ``turning`` (``dl, ddl``: its
+    ``Δ̇, Δ̈``), and for a slide ``±(s̈u + 2iṡuΔ̇)``."""
+    if turning:
+        for j in range(nb):
+            v2 = dl[j] * dl[j]
+            sr[j] += -wi[j] * ddl[j] - wr[j] * v2
+            si[j] += wr[j] * ddl[j] - wi[j] * v2
+    if seg_i[t, 0] != 0:
+        sg, sd, sdd = seg_f[t, 3], xd[seg_i[t, 2]], xdd[seg_i[t, 2]]
+        for j in range(nb):
+            v = dl[j] if turning else 0.0
+            sr[j] += sg * (sdd[j] * ur[j] - 2 * sd[j] * v * ui[j])
+            si[j] += sg * (sdd[j] * ui[j] + 2 * sd[j] * v * ur[j])
 
 
 def _pass(rows, anchors, G, U, S0, drawn, fixed, k_swept, sign, R, W, S, F, B, roots, xs, keep, start, swept,
@@ -689,10 +707,7 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
             for t in range(lo, hi):  # Δ̇ now with the unknowns' rates; their accelerations at zero
                 ur_t, ui_t, wr_t, wi_t = ur[t], ui[t], wr[t], wi[t]
                 e, slide, terms = seg_i[t, 1], seg_i[t, 0] != 0, ex_ptr[seg_i[t, 1] + 1] - ex_ptr[seg_i[t, 1]]
-                if terms == 0:
-                    for j in range(nb):
-                        dl[j] = 0.0
-                elif terms == 1 and not slide:
+                if terms == 1 and not slide:
                     p = ex_ptr[e]
                     c, xv, xa = ex_c[p], xd[ex_var[p]], xdd[ex_var[p]]
                     for j in range(nb):
@@ -700,18 +715,11 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
                         v2 = d * d
                         kr[j] += -wi_t[j] * dd - wr_t[j] * v2
                         ki[j] += wr_t[j] * dd - wi_t[j] * v2
-                else:
+                    continue
+                if terms:
                     _linear(e, ex_ptr, ex_var, ex_c, xd, nb, dl)
                     _linear(e, ex_ptr, ex_var, ex_c, xdd, nb, ddl)
-                    for j in range(nb):
-                        v2 = dl[j] * dl[j]
-                        kr[j] += -wi_t[j] * ddl[j] - wr_t[j] * v2
-                        ki[j] += wr_t[j] * ddl[j] - wi_t[j] * v2
-                if slide:
-                    sg, sd, sdd = seg_f[t, 3], xd[seg_i[t, 2]], xdd[seg_i[t, 2]]
-                    for j in range(nb):
-                        kr[j] += sg * (sdd[j] * ur_t[j] - 2 * sd[j] * dl[j] * ui_t[j])
-                        ki[j] += sg * (sdd[j] * ui_t[j] + 2 * sd[j] * dl[j] * ur_t[j])
+                _accelerations(t, nb, terms > 0, seg_i, seg_f, ur_t, ui_t, wr_t, wi_t, dl, ddl, xd, xdd, kr, ki)
             for j in range(nb):
                 j00, j01, j10, j11 = c0r[j], c1r[j], c0i[j], c1i[j]
                 det = j00 * j11 - j01 * j10
@@ -789,15 +797,7 @@ def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, se
                     if order == 1:
                         continue
                     _linear(e, ex_ptr, ex_var, ex_c, xdd, nb, ddl)
-                    for j in range(nb):
-                        v2 = dl[j] * dl[j]
-                        c0r[j] += -wi_t[j] * ddl[j] - wr_t[j] * v2
-                        c0i[j] += wr_t[j] * ddl[j] - wi_t[j] * v2
-                    if slide:
-                        sg, sd, sdd = seg_f[t, 3], xd[seg_i[t, 2]], xdd[seg_i[t, 2]]
-                        for j in range(nb):
-                            c0r[j] += sg * (sdd[j] * ur_t[j] - 2 * sd[j] * dl[j] * ui_t[j])
-                            c0i[j] += sg * (sdd[j] * ui_t[j] + 2 * sd[j] * dl[j] * ur_t[j])
+                    _accelerations(t, nb, True, seg_i, seg_f, ur_t, ui_t, wr_t, wi_t, dl, ddl, xd, xdd, c0r, c0i)
                 for j in range(nb):
                     k = blk + j
                     out[col, k], out[col + 1, k] = ar[j], ai[j]
