@@ -23,27 +23,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "tests" / "motion"))
 
 
-def sample(seed: int, points: int, noise: float):
-    """``(curve, size, clean, angles (deg), noisy)`` of one random crank-rocker's timed curve."""
-    from domes.errors import InputError
-    from domes.motion.coupler.curves import trace
-    from domes.motion.coupler.fourbar import four_bar
-
-    rng = np.random.default_rng(seed)
-    while True:
-        lengths, uv = rng.uniform(0.3, 1.7, 4), rng.uniform(-3, 3, 2)
-        try:
-            circuit = trace(four_bar(*lengths, *uv), "P", 720).circuits[0]
-        except InputError:
-            continue
-        if circuit.full_turn:
-            break
-    size = float(np.max(np.ptp(circuit.points, axis=0)))
-    idx = np.sort(rng.choice(len(circuit.points), points, replace=False))
-    clean, angles = circuit.points[idx], np.degrees(np.unwrap(circuit.inputs))[idx]
-    return circuit.points, size, clean, angles, clean + rng.normal(0, noise * size, clean.shape)
+from test_freehand_timing import _dense_distances, timed_sample  # noqa: E402  the tests' cases and brute force
 
 
 def main() -> int:
@@ -57,7 +40,6 @@ def main() -> int:
     from domes.execution.threads import limited_threads
     from domes.io.atlas import default_atlas
     from domes.motion.coupler.atlas import Atlas
-    from domes.motion.coupler.curves import trace
     from domes.motion.coupler.freehand import match_drawn
     from domes.motion.coupler.timing import Timing, driven
 
@@ -67,7 +49,7 @@ def main() -> int:
         for kind in args.kinds:
             good, cpu = 0, []
             for case in range(args.count):
-                curve, size, clean, angles, noisy = sample(1000 + case, args.points, args.noise)
+                curve, size, clean, angles, noisy = timed_sample(1000 + case, args.points, args.noise)
                 t = (angles - angles[0]) / 90.0 + 3.0
                 timing = {"angle": Timing(tuple(angles - angles[0] + 17.0)), "time": Timing(tuple(t), "time"),
                           "speed": Timing(tuple(t), "time", 90.0)}[kind]
@@ -77,9 +59,7 @@ def main() -> int:
                 f = m.fits[0]
                 pts, _ = driven(f.mechanism, np.radians(f.angles))
                 timed = float(np.max(np.hypot(*(pts - clean).T))) / size
-                per = [np.array([np.min(np.hypot(*(c.points - p).T)) for p in curve[::4]])
-                       for c in trace(f.mechanism, "P", 20000).circuits]
-                along = float(np.max(min(per, key=lambda d: np.mean(d ** 2)))) / size
+                along = float(np.max(_dense_distances(f.mechanism, curve[::4]))) / size
                 good += timed <= 0.02 and along <= 0.02
                 speed = "" if f.speed is None else f"{f.speed:.2f}"
                 print(f"{kind:6s} {case:4d}  {100 * timed:15.2f}  {100 * along:16.2f}  {100 * f.after[0] / size:13.2f}"

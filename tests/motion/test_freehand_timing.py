@@ -20,10 +20,11 @@ ROOT = Path(__file__).resolve().parents[2]
 LOOP = ROOT / "examples/curves/timed-loop.csv"
 
 
-def _timed_sample(seed, count=60):
+def timed_sample(seed, count=60, noise=0.01):
     """A random crank-rocker's curve (random lengths and coupler point, not an atlas point): ``count`` points at
-    random crank angles (the kernel's trace gives each point's angle), noise of 1% of the size added to each
-    coordinate; returns ``(curve, size, clean points, their crank angles in degrees, noisy points)``."""
+    random crank angles (the kernel's trace gives each point's angle), noise of ``noise`` times the size added to
+    each coordinate; returns ``(curve, size, clean points, their crank angles in degrees, noisy points)``.
+    (``benchmarks/bench_freehand_timed.py`` draws its cases with it.)"""
     rng = np.random.default_rng(seed)
     while True:
         lengths, uv = rng.uniform(0.3, 1.7, 4), rng.uniform(-3, 3, 2)
@@ -36,7 +37,7 @@ def _timed_sample(seed, count=60):
     size = float(np.max(np.ptp(circuit.points, axis=0)))
     idx = np.sort(rng.choice(len(circuit.points), count, replace=False))
     clean, angles = circuit.points[idx], np.degrees(np.unwrap(circuit.inputs))[idx]
-    return circuit.points, size, clean, angles, clean + rng.normal(0, 0.01 * size, clean.shape)
+    return circuit.points, size, clean, angles, clean + rng.normal(0, noise * size, clean.shape)
 
 
 def _dense_distances(mech, points, samples=20000):
@@ -52,7 +53,7 @@ def test_a_noisy_timed_curve_recovers_a_linkage_that_keeps_the_timing(kind, smal
     # still recovers a linkage within 2% of it, and the linkage meets the points at their given timing. Crank
     # angles: their zero is free; times: the crank turning at 90° a unit of time, which the fit finds.
     # (One curve of each kind here; 20 in benchmarks/bench_freehand_timed.py, docs/curves.md.)
-    curve, size, clean, angles, noisy = _timed_sample(27 if kind == "angle" else 5)
+    curve, size, clean, angles, noisy = timed_sample(27 if kind == "angle" else 5)
     timing = (Timing(tuple(angles - angles[0] + 17.0)) if kind == "angle" else
               Timing(tuple((angles - angles[0]) / 90.0 + 3.0), "time"))
     m = match_drawn(noisy, small_atlas, results=1, closed=True, timing=timing)
@@ -82,7 +83,7 @@ def test_an_untimed_sketch_is_matched_against_its_curve_as_before():
     from domes.motion.coupler.atlas import Atlas, AtlasSpec, build
 
     atlas = Atlas(build(AtlasSpec("test", 12, 1.0)))
-    _, _, _, _, noisy = _timed_sample(3, 40)
+    _, _, _, _, noisy = timed_sample(3, 40)
     m = match_drawn(noisy, atlas, results=1, candidates=2, closed=True)
     assert m.fits and not isinstance(m.fits[0], TimedFit) and m.message.endswith("traced curve")
 
