@@ -167,6 +167,26 @@ class Tape:
             rows.append(row)
         return cls(prog, points, slides, links, dyads, rows, anchors, inputs)
 
+    def tables(self, geom, others=None, signs=None) -> tuple:
+        """The constant tables the compiled loops read, one row per mechanism of ``geom``: the points ``G``, the
+        slides' directions ``U`` and drawn values ``S0``, the inputs' ``drawn`` and ``fixed`` values (``others``
+        for the inputs not swept, else the drawn ones) and the dyads' assembly ``sign`` (``signs``, else the
+        drawn ones)."""
+        mg = geom.count if geom.count is not None else 1
+
+        def table(values, fill, dtype):
+            out = np.empty((mg, len(values)), dtype=dtype)
+            for k, v in enumerate(values):
+                out[:, k] = np.broadcast_to(np.asarray(v if v is not None else fill, dtype=dtype).reshape(-1), (mg,))
+            return out
+
+        return (table([geom.at[p] for p in self.points], 0j, complex),
+                table([geom.direction[s] for s in self.slides], 1 + 0j, complex),
+                table([geom.s0[s] for s in self.slides], 0.0, float),
+                table([geom.drawn[j] for j in self.inputs], 0.0, float),
+                table([(others or {}).get(j, geom.drawn[j]) for j in self.inputs], 0.0, float),
+                table([(signs or {}).get(i, geom.sign.get(i, 1.0)) for i in self.dyads], 1.0, float))
+
     def poses(self, geom, q, joint, others, signs, shape):
         """The :class:`~domes.motion.planar.kernel.Poses` of :meth:`Program.poses` by the compiled loop.
 
@@ -180,18 +200,7 @@ class Tape:
         qs = np.ascontiguousarray(np.asarray(q, dtype=float).reshape(-1))
         n = qs.size
 
-        def table(values, fill, dtype):
-            out = np.empty((mg, len(values)), dtype=dtype)
-            for k, v in enumerate(values):
-                out[:, k] = np.broadcast_to(np.asarray(v if v is not None else fill, dtype=dtype).reshape(-1), (mg,))
-            return out
-
-        G = table([geom.at[p] for p in self.points], 0j, complex)
-        U = table([geom.direction[s] for s in self.slides], 1 + 0j, complex)
-        S0 = table([geom.s0[s] for s in self.slides], 0.0, float)
-        drawn = table([geom.drawn[j] for j in self.inputs], 0.0, float)
-        fixed = table([(others or {}).get(j, geom.drawn[j]) for j in self.inputs], 0.0, float)
-        sign = table([(signs or {}).get(i, geom.sign.get(i, 1.0)) for i in self.dyads], 1.0, float)
+        G, U, S0, drawn, fixed, sign = self.tables(geom, others, signs)
         nl, nd, ns = len(self.links), len(self.dyads), len(self.slides)
         key = (nl, nd, ns, mg, n)
         if getattr(prog, "scratch", False) and self._scratch and self._scratch[0] == key:

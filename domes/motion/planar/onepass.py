@@ -177,23 +177,12 @@ class Pass:
         self._walk = None
 
     def _placements(self, fixed):
-        """The constant tables of :func:`~domes.motion.planar.compiled.run` (one mechanism), as ``Tape.poses``."""
-        tape, geom = self.tape, Compiled.of(self.kin).geometry
+        """The constant tables of :func:`~domes.motion.planar.compiled.run` for this mechanism
+        (:meth:`~domes.motion.planar.compiled.Tape.tables`)."""
         others = {j: x for j, x in fixed.items() if j != self.joint}
-
-        def row(values, fill, dtype):
-            out = np.empty((1, len(values)), dtype=dtype)
-            for k, v in enumerate(values):
-                out[0, k] = np.asarray(v if v is not None else fill, dtype=dtype).reshape(-1)[0]
-            return out
-
-        self.G = row([geom.at[p] for p in tape.points], 0j, complex)
-        self.U = row([geom.direction[s] for s in tape.slides], 1 + 0j, complex)
-        self.S0 = row([geom.s0[s] for s in tape.slides], 0.0, float)
-        self.drawn = row([geom.drawn[j] for j in tape.inputs], 0.0, float)
-        self.fixed = row([others.get(j, geom.drawn[j]) for j in tape.inputs], 0.0, float)
-        self.sign = row([geom.sign.get(i, 1.0) for i in tape.dyads], 1.0, float)
-        self.k_swept = tape.inputs.index(self.joint)
+        self.G, self.U, self.S0, self.drawn, self.fixed, self.sign = self.tape.tables(Compiled.of(self.kin).geometry,
+                                                                                   others)
+        self.k_swept = self.tape.inputs.index(self.joint)
 
     def borrow(self, n: int) -> tuple:
         """Work arrays for a walk of ``n`` points: a sweep's arrays again when the last sweep of this size has given

@@ -70,17 +70,7 @@ def extremes(prog, table, geom, qs, joint, ambiguous, size, lo, minimum, maximum
     tape = Tape.of(prog)
     mg = geom.count if geom.count is not None else 1
 
-    def stacked(values, fill, dtype):
-        out = np.empty((mg, len(values)), dtype=dtype)
-        for k, v in enumerate(values):
-            out[:, k] = np.broadcast_to(np.asarray(v if v is not None else fill, dtype=dtype).reshape(-1), (mg,))
-        return out
-
-    G = stacked([geom.at[p] for p in tape.points], 0j, complex)
-    U = stacked([geom.direction[s] for s in tape.slides], 1 + 0j, complex)
-    S0 = stacked([geom.s0[s] for s in tape.slides], 0.0, float)
-    drawn = stacked([geom.drawn[j] for j in tape.inputs], 0.0, float)
-    sign = stacked([geom.sign.get(i, 1.0) for i in tape.dyads], 1.0, float)
+    G, U, S0, drawn, _, sign = tape.tables(geom)
     flags = np.broadcast_to(ambiguous, (mg,)).astype(np.bool_)  # writable copies: one compiled signature
     sizes = np.broadcast_to(size, (mg,)).astype(float)
     signed = np.array(tape.signed, dtype=np.bool_)
