@@ -269,6 +269,17 @@ def test_angle_is_numpys_to_two_units_in_the_last_place():
     assert np.all(np.abs(got - want) <= 2 * np.spacing(np.abs(want) + np.pi / 4))
 
 
+def test_small_turns_are_numpys_to_an_ulp_or_two():
+    # the series the one-pass sweep uses within NEAR of an anchor: atan of a small tangent, e^{id} of a small angle
+    t = np.concatenate((np.linspace(-onepass.NEAR, onepass.NEAR, 4001), [0.0, 1e-300, -1e-12, 3e-9]))
+    onepass._passer()
+    got = np.array([onepass._small_atan(x) for x in t])
+    assert np.all(np.abs(got - np.arctan(t)) <= 2 * np.spacing(np.abs(np.arctan(t))))
+    turn = np.array([onepass._small_turn(x) for x in t])
+    assert np.all(np.abs(turn.real - np.cos(t)) <= 2 * np.spacing(1.0))
+    assert np.all(np.abs(turn.imag - np.sin(t)) <= 2 * np.spacing(np.abs(np.sin(t))))
+
+
 def test_grid_points_are_the_grid():
     for start, stop, step in ((0.0, 1.0, 0.25), (0.3, -2.0, 0.07), (1.0, 1.0, 0.5), (0.0, 2 * math.pi, math.pi / 1800)):
         assert grid_points(start, stop, step).tolist() == grid(start, stop, step)

@@ -523,19 +523,19 @@ def _pass(rows, anchors, G, U, S0, drawn, fixed, k_swept, sign, R, W, S, F, B, r
         for d in range(F.shape[1]):
             for i in range(c1 - c0):
                 if B[0, d, 0, i] or B[1, d, 0, i]:
-                    return 1, 0.0
+                    return FAILED, 0.0
         for r in range(njump):
             v, p_r = jump_v[r], jprev[r]
             for i in range(c0, c1):
                 if not abs(X[v, i] - p_r) / jump_s[r] <= jump:
-                    return 1, 0.0
+                    return FAILED, 0.0
                 p_r = X[v, i]
             jprev[r] = p_r
         for t in range(signed.size):
             for i in range(c0, c1):
                 root = F[0, signed[t], 0, i - c0]
                 if not root > 2 * floor:
-                    return 2, 0.0
+                    return NEAR_BRANCH, 0.0
                 roots[t, i] = root
         k1 = k0
         while k1 < nk and keep[k1] < c1:
@@ -557,8 +557,8 @@ def _pass(rows, anchors, G, U, S0, drawn, fixed, k_swept, sign, R, W, S, F, B, r
                 if d1 > 0:
                     slope = max(slope, abs(root[i + 1] - root[i]) / d1)
                 if root[i] <= 2 * (slope * max(d0, d1) + floor):
-                    return 2, 0.0
-    return 0, worst
+                    return NEAR_BRANCH, 0.0
+    return DONE, worst
 
 
 def _block(k0, k1, c0, R, X, keep, nv, ex_ptr, ex_var, ex_c, ex_const, seg_i, seg_f, seg_link, seg_u, seg_du, groups,
